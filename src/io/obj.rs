@@ -1,0 +1,75 @@
+//! Wavefront OBJ: `v` and `f` statements; polygons are fan-triangulated, `vt`/`vn` and
+//! everything else is ignored. Negative (relative) indices are supported.
+
+use super::text::{lines, point};
+use super::{Format, ReadError, ReadSoup};
+use crate::mesh::TriangleSoup;
+
+const F: Format = Format::Obj;
+
+pub(crate) fn read(bytes: &[u8]) -> Result<ReadSoup, ReadError> {
+    let mut soup = TriangleSoup::default();
+    let mut origin = Vec::new();
+    let mut polygon: Vec<u32> = Vec::new();
+    for item in lines(bytes, F) {
+        let (line, text) = item?;
+        let text = text.split('#').next().unwrap_or("");
+        let mut tokens = text.split_ascii_whitespace();
+        match tokens.next() {
+            Some("v") => soup.positions.push(point(&mut tokens, F, line)?),
+            Some("f") => {
+                polygon.clear();
+                for t in tokens {
+                    polygon.push(vertex_index(t, soup.positions.len(), line)?);
+                }
+                if polygon.len() < 3 {
+                    let message = format!("a face needs 3 or more vertices, found {}", polygon.len());
+                    return Err(ReadError::Syntax { format: F, line, message });
+                }
+                for k in 1..polygon.len() - 1 {
+                    soup.triangles.push([polygon[0], polygon[k], polygon[k + 1]]);
+                    origin.push(line as u32);
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(ReadSoup { soup, origin })
+}
+
+/// The 0-based vertex of a face token `v`, `v/vt`, `v//vn` or `v/vt/vn`.
+fn vertex_index(token: &str, defined: usize, line: usize) -> Result<u32, ReadError> {
+    let err = |message: String| ReadError::Syntax { format: F, line, message };
+    let first = token.split('/').next().unwrap_or("");
+    let i: i64 = first.parse().map_err(|_| err(format!("'{token}' is not a vertex index")))?;
+    let index = match i {
+        0 => return Err(err("vertex index 0 (OBJ counts from 1)".into())),
+        i if i < 0 => defined as i64 + i,
+        i => i - 1,
+    };
+    if index < 0 || index >= u32::MAX as i64 {
+        return Err(err(format!("vertex index {i} is out of range ({defined} vertices so far)")));
+    }
+    Ok(index as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quads_are_fanned_and_indices_resolved() {
+        let text = b"# square\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 -2/1 -1/1\n";
+        let r = read(text).unwrap();
+        assert_eq!(r.soup.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(r.origin, vec![7, 7]);
+    }
+
+    #[test]
+    fn garbage_names_the_line() {
+        let e = read(b"v 0 0 0\nv 1 x 0\n").err().unwrap();
+        assert_eq!(e.to_string(), "OBJ line 2: 'x' is not a number");
+        let e = read(b"v 0 0 nan\n").err().unwrap();
+        assert!(e.to_string().contains("line 1"), "{e}");
+    }
+}

@@ -1,0 +1,13 @@
+//! quadlay: quad remeshing from a user-drawn coarse layout, after Bommes, Vossemer and
+//! Kobbelt, *Quadrangular Parameterization for Reverse Engineering* (2008).
+//!
+//! Data flows one way: bytes → [`io`] → [`mesh`] → layout → parameterization → quads →
+//! [`io`] → bytes. The same core runs natively (the `quadlay` command) and in the browser
+//! (`wasm`, built for `wasm32-unknown-unknown`).
+
+pub mod io;
+pub mod mesh;
+pub mod summary;
+
+#[cfg(target_arch = "wasm32")]
+mod wasm;
