@@ -1,0 +1,55 @@
+//! Native benchmark behind `npm run bench` (scripts/bench.mjs runs it and writes the file).
+//! For each mesh given: the median time of reading the bytes into a validated halfedge mesh
+//! (parse + connectivity), of the topology pass, and of the cotangent weights.
+//! Prints one JSON object per mesh.
+
+use quadlay::io::read_mesh;
+use quadlay::mesh::{geometry, topology};
+use std::time::Instant;
+
+/// Median milliseconds of `f`, run at least 3 times and for at least half a second.
+fn median_ms(mut f: impl FnMut()) -> f64 {
+    let mut times = Vec::new();
+    let start = Instant::now();
+    while times.len() < 3 || (start.elapsed().as_secs_f64() < 0.5 && times.len() < 50) {
+        let t = Instant::now();
+        f();
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+fn main() {
+    for path in std::env::args().skip(1) {
+        let bytes = match std::fs::read(&path) {
+            Ok(b) => b,
+            Err(e) => {
+                eprintln!("error: {path}: {e}");
+                std::process::exit(2);
+            }
+        };
+        let mesh = match read_mesh(&bytes, &path) {
+            Ok(m) => m.mesh,
+            Err(e) => {
+                eprintln!("error: {path}: {e}");
+                std::process::exit(2);
+            }
+        };
+        let load = median_ms(|| {
+            std::hint::black_box(read_mesh(&bytes, &path).ok());
+        });
+        let topo = median_ms(|| {
+            std::hint::black_box(topology::topology(&mesh));
+        });
+        let cot = median_ms(|| {
+            std::hint::black_box(geometry::cotangent_weights(&mesh));
+        });
+        let name = path.rsplit('/').next().unwrap_or(&path);
+        println!(
+            "{{\"mesh\":\"{name}\",\"vertices\":{},\"triangles\":{},\"load_ms\":{load:.3},\"topology_ms\":{topo:.3},\"cotangent_weights_ms\":{cot:.3}}}",
+            mesh.n_vertices(),
+            mesh.n_faces()
+        );
+    }
+}

@@ -1,0 +1,11 @@
+// The sample meshes the page offers (copied from shared/meshes into www/samples by the
+// build). The first is loaded when the page opens.
+export const SAMPLES = [
+  { file: 'fandisk.obj', title: 'Fandisk', note: 'mechanical part with sharp features' },
+  { file: 'mushroom.obj', title: 'Mushroom', note: 'disk with one boundary loop' },
+  { file: 'bunny_28k.obj', title: 'Bunny 28k', note: 'organic, closed' },
+  { file: 'eight.obj', title: 'Eight', note: 'genus 2' },
+  { file: 'bunny_1k8.obj', title: 'Bunny 1.8k', note: 'coarse bunny' },
+  { file: 'nefertiti.obj', title: 'Nefertiti', note: 'small relief with boundary' },
+  { file: 'elephant_44k.obj', title: 'Elephant', note: 'genus 3, 89k triangles' },
+];
