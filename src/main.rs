@@ -42,8 +42,8 @@ fn run(args: &[String]) -> Result<(), Failure> {
             println!("quadlay {}", env!("CARGO_PKG_VERSION"));
             Ok(())
         }
-        Some(other) => Err(bad_input(format!("unknown command '{other}'\n{USAGE}"))),
-        None => Err(bad_input(format!("no command given\n{USAGE}"))),
+        Some(other) => Err(bad_input(format!("unknown command '{other}' (quadlay --help lists them)"))),
+        None => Err(bad_input("no command given (quadlay --help lists them)".into())),
     }
 }
 

@@ -6,6 +6,9 @@
 use super::weld::weld_triangles;
 use super::{Format, ReadError, ReadSoup};
 use base64::Engine;
+use gltf::accessor::{DataType, Dimensions};
+use gltf::json::mesh::Semantic;
+use gltf::json::validation::Checked;
 use gltf::mesh::Mode;
 
 const F: Format = Format::Gltf;
@@ -20,7 +23,27 @@ pub(crate) fn read(
     bytes: &[u8],
     resource: &dyn Fn(&str) -> Option<Vec<u8>>,
 ) -> Result<ReadSoup, ReadError> {
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| invalid(e.to_string()))?;
+    // The `gltf` crate subtracts the header size from the declared length unchecked.
+    if bytes.starts_with(b"glTF") && bytes.len() >= 12 {
+        let declared = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize;
+        if declared < 12 || declared > bytes.len() {
+            return Err(invalid(format!("GLB declares {declared} bytes but the file has {}", bytes.len())));
+        }
+    }
+    let unchecked = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| invalid(e.to_string()))?;
+    // gltf-json's validation indexes the POSITION accessor unchecked (a panic): check first.
+    let root = unchecked.document.as_json();
+    for (mi, mesh) in root.meshes.iter().enumerate() {
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            let position = prim.attributes.get(&Checked::Valid(Semantic::Positions));
+            if let Some(a) = position.filter(|a| a.value() >= root.accessors.len()) {
+                let message = format!("mesh {mi} primitive {pi}: POSITION accessor {} does not exist", a.value());
+                return Err(invalid(message));
+            }
+        }
+    }
+    let document = gltf::Document::from_json(unchecked.document.into_json()).map_err(|e| invalid(e.to_string()))?;
+    let gltf = gltf::Gltf { document, blob: unchecked.blob };
     let buffers = load_buffers(&gltf, resource)?;
     let doc = &gltf.document;
     let scene = doc
@@ -103,11 +126,21 @@ fn check_accessor(acc: &gltf::Accessor, buffers: &[Vec<u8>], what: &str) -> Resu
     let view = acc.view().ok_or_else(|| invalid(format!("{what}: accessor {} has no buffer view", acc.index())))?;
     let size = acc.size();
     let stride = view.stride().unwrap_or(size);
+    // The `gltf` reader computes `count - 1` and reads `size` bytes at every stride.
+    if acc.count() == 0 {
+        return Err(invalid(format!("{what}: accessor {} has no elements", acc.index())));
+    }
+    if stride < size {
+        return Err(invalid(format!(
+            "{what}: accessor {} has a stride of {stride} bytes, less than its {size}-byte elements",
+            acc.index()
+        )));
+    }
     let view_end = view.offset().checked_add(view.length());
-    let needed = match acc.count() {
-        0 => Some(0),
-        n => (n - 1).checked_mul(stride).and_then(|x| x.checked_add(acc.offset() + size)),
-    };
+    let needed = (acc.count() - 1)
+        .checked_mul(stride)
+        .and_then(|x| x.checked_add(acc.offset()))
+        .and_then(|x| x.checked_add(size));
     let buffer_len = buffers[view.buffer().index()].len();
     match (view_end, needed) {
         (Some(end), Some(need)) if end <= buffer_len && need <= view.length() => Ok(()),
@@ -132,8 +165,19 @@ fn read_primitive(
     let pos_acc = prim
         .get(&gltf::Semantic::Positions)
         .ok_or_else(|| invalid(format!("{what} has no POSITION attribute")))?;
+    // The `gltf` reader assumes these types (it asserts or hits `unreachable!` otherwise).
+    if pos_acc.dimensions() != Dimensions::Vec3 || pos_acc.data_type() != DataType::F32 {
+        return Err(invalid(format!("{what}: POSITION accessor {} is not VEC3 of FLOAT", pos_acc.index())));
+    }
     check_accessor(&pos_acc, buffers, what)?;
     if let Some(idx) = prim.indices() {
+        let unsigned = matches!(idx.data_type(), DataType::U8 | DataType::U16 | DataType::U32);
+        if idx.dimensions() != Dimensions::Scalar || !unsigned {
+            return Err(invalid(format!(
+                "{what}: index accessor {} is not SCALAR of unsigned integers",
+                idx.index()
+            )));
+        }
         check_accessor(&idx, buffers, what)?;
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(|d| d.as_slice()));

@@ -246,6 +246,9 @@ pub(crate) fn read(bytes: &[u8]) -> Result<ReadSoup, ReadError> {
         if el.name == "face" && list.is_none() {
             return Err(invalid("the face element has no 'vertex_indices' list"));
         }
+        if el.properties.is_empty() {
+            continue; // holds no bytes, so its count is unbounded: do not loop over it
+        }
         if ei == vertex {
             soup.positions.reserve(el.count);
         }

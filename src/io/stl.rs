@@ -12,9 +12,10 @@ pub(crate) fn read(bytes: &[u8]) -> Result<ReadSoup, ReadError> {
     // A binary STL's size is fixed by its triangle count; its 80-byte header may well start
     // with "solid", so the size decides first.
     if bytes.len() >= 84 {
-        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        if bytes.len() == 84 + 50 * n {
-            return read_binary(bytes, n);
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
+        // In u64: on wasm32, 50 * n in usize wraps and a crafted count would pass.
+        if bytes.len() as u64 == 84 + 50 * n {
+            return read_binary(bytes, n as usize);
         }
     }
     let text_start = bytes.iter().position(|b| !b.is_ascii_whitespace()).unwrap_or(bytes.len());

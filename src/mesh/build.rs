@@ -47,7 +47,8 @@ pub struct BuiltMesh {
     pub soup_face: Vec<u32>,
 }
 
-/// Why a triangle soup is not a mesh quadlay can work on. Face indices are soup indices.
+/// Why a triangle soup is not a mesh quadlay can work on. Face indices count the soup's
+/// triangles (after readers split polygons); readers add the file's own face or line.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeshError {
     NoVertices,
@@ -87,22 +88,22 @@ impl fmt::Display for MeshError {
             }
             MeshError::IndexOutOfRange { face, index, vertices } => write!(
                 f,
-                "face {face} refers to vertex {index}, but there are only {vertices} vertices"
+                "triangle {face} refers to vertex {index}, but there are only {vertices} vertices"
             ),
             MeshError::RepeatedVertex { face, vertex } => {
-                write!(f, "face {face} uses vertex {vertex} more than once")
+                write!(f, "triangle {face} uses vertex {vertex} more than once")
             }
             MeshError::NonManifoldEdge { a, b, faces } => {
                 let list: Vec<String> = faces.iter().map(|x| x.to_string()).collect();
                 write!(
                     f,
-                    "non-manifold edge between vertices {a} and {b}: shared by faces {}",
+                    "non-manifold edge between vertices {a} and {b}: shared by triangles {}",
                     list.join(", ")
                 )
             }
             MeshError::InconsistentOrientation { a, b, faces } => write!(
                 f,
-                "inconsistent orientation: faces {} and {} both run from vertex {a} to vertex {b}",
+                "inconsistent orientation: triangles {} and {} both run from vertex {a} to vertex {b}",
                 faces[0], faces[1]
             ),
             MeshError::NonManifoldVertex { vertex } => write!(
@@ -212,7 +213,17 @@ fn connect(
         by_source[fill[a] as usize] = c as u32;
         fill[a] += 1;
     }
-    let corners_from = |v: u32| &by_source[start[v as usize] as usize..start[v as usize + 1] as usize];
+    // Sorted by target, so the corners of one directed edge are found by binary search
+    // (a plain scan is quadratic at vertices of huge valence, e.g. big PLY polygons).
+    for v in 0..nv {
+        by_source[start[v] as usize..start[v + 1] as usize].sort_unstable_by_key(|&c| corner_to(c as usize));
+    }
+    let corners_from_to = |a: u32, b: u32| {
+        let s = &by_source[start[a as usize] as usize..start[a as usize + 1] as usize];
+        let lo = s.partition_point(|&c| corner_to(c as usize) < b);
+        let hi = s.partition_point(|&c| corner_to(c as usize) <= b);
+        &s[lo..hi]
+    };
 
     let soup = |c: usize| soup_face[c / 3];
     let mut corner_he = vec![NONE; nc];
@@ -223,16 +234,9 @@ fn connect(
             continue;
         }
         let (a, b) = (corner_from(c), corner_to(c));
-        let same: Vec<usize> = corners_from(a)
-            .iter()
-            .map(|&x| x as usize)
-            .filter(|&x| x != c && corner_to(x) == b)
-            .collect();
-        let opposite: Vec<usize> = corners_from(b)
-            .iter()
-            .map(|&x| x as usize)
-            .filter(|&x| corner_to(x) == a)
-            .collect();
+        let same: Vec<usize> =
+            corners_from_to(a, b).iter().map(|&x| x as usize).filter(|&x| x != c).collect();
+        let opposite: Vec<usize> = corners_from_to(b, a).iter().map(|&x| x as usize).collect();
         if 1 + same.len() + opposite.len() > 2 {
             let mut faces: Vec<u32> = std::iter::once(c)
                 .chain(same.iter().copied())
