@@ -1,0 +1,78 @@
+// A promise-based client over the worker that owns the wasm core (worker.js). Each request
+// gets an id; its reply settles the matching promise. The protocol is in protocol.js.
+import { MSG } from './protocol.js';
+
+/** An error reported by the worker; `message` is readable by the user. */
+export class CoreError extends Error {
+  constructor(message, { fatal = false } = {}) {
+    super(message);
+    this.name = 'CoreError';
+    this.fatal = fatal;
+  }
+}
+
+export class CoreClient {
+  /** @param {URL|string} workerUrl the module worker's script */
+  constructor(workerUrl = new URL('./worker.js', import.meta.url)) {
+    this.workerUrl = workerUrl;
+    this.worker = null;
+    this.nextId = 1;
+    /** id → { resolve, reject } of the requests in flight */
+    this.pending = new Map();
+  }
+
+  /**
+   * Reads a mesh file in the worker and makes it the current mesh.
+   * @param {ArrayBuffer} bytes the file's contents; transferred, unusable afterwards
+   * @param {string} name the file's name; its extension picks the format
+   * @returns {Promise<{summary: object, positions: Float32Array, triangles: Uint32Array}>}
+   */
+  load(bytes, name) {
+    return this.request(MSG.LOAD, { bytes, name }, [bytes]);
+  }
+
+  /** Sends one request; resolves to its `result`, rejects with a CoreError. */
+  request(type, args = {}, transfer = []) {
+    const worker = this.ensureWorker();
+    const id = this.nextId++;
+    return new Promise((resolve, reject) => {
+      this.pending.set(id, { resolve, reject });
+      worker.postMessage({ id, type, ...args }, transfer);
+    });
+  }
+
+  /** Stops the worker; requests in flight are rejected. */
+  terminate(reason = 'the quadlay core was stopped') {
+    this.worker?.terminate();
+    this.worker = null;
+    for (const { reject } of this.pending.values()) reject(new CoreError(reason, { fatal: true }));
+    this.pending.clear();
+  }
+
+  ensureWorker() {
+    if (this.worker) return this.worker;
+    const worker = new Worker(this.workerUrl, { type: 'module', name: 'quadlay-core' });
+    worker.onmessage = (event) => this.settle(event.data);
+    // A worker that fails to start or throws outside a request: fail what is in flight, and
+    // start a fresh worker on the next request.
+    worker.onerror = (event) => {
+      event.preventDefault();
+      this.terminate(`the quadlay core stopped: ${event.message || 'its worker failed to start (is www/pkg built? npm run build)'}`);
+    };
+    worker.onmessageerror = () => this.terminate('the quadlay core sent a message that could not be read');
+    this.worker = worker;
+    return worker;
+  }
+
+  settle({ id, result, error, fatal }) {
+    const entry = this.pending.get(id);
+    if (!entry) return;
+    this.pending.delete(id);
+    if (error === undefined) {
+      entry.resolve(result);
+    } else {
+      entry.reject(new CoreError(error, { fatal }));
+      if (fatal) this.terminate(error);
+    }
+  }
+}

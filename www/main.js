@@ -1,0 +1,152 @@
+// The page's entry point: wires the panel, the view and the worker client together, and
+// exposes `window.quadlay` for tests and scripting:
+//   state    'loading' | 'ready' | 'error'  ('ready' once a frame with the mesh is drawn)
+//   summary  the shown mesh's summary (protocol.js), null before the first mesh
+//   name     the shown mesh's file name
+//   error    the last error's message, null after a successful load
+//   load(url | File) → Promise<summary>; rejects with the error (also shown on the page);
+//            null if a newer load overtook it
+// `?mesh=URL` loads that mesh instead of the first sample.
+import { CoreClient } from './client.js';
+import { initDropZone } from './dropzone.js';
+import * as panel from './panel.js';
+import { SAMPLES } from './samples.js';
+import { Viewer } from './viewer.js';
+
+const $ = (id) => document.getElementById(id);
+const fmt = new Intl.NumberFormat('en-US');
+
+const quadlay = { state: 'loading', summary: null, name: null, error: null, load };
+window.quadlay = quadlay;
+
+const client = new CoreClient();
+const viewer = createViewer();
+/** Counts loads, so a load overtaken by a newer one does not overwrite it. */
+let latest = 0;
+
+/**
+ * Loads a mesh from a URL (relative to the page) or a File, and shows it.
+ * @param {string|URL|File} source
+ */
+async function load(source) {
+  const seq = ++latest;
+  const name = nameOf(source);
+  quadlay.state = 'loading';
+  panel.setStatus('loading', `Loading ${name}…`);
+  panel.setBusy(`Loading ${name}…`);
+  const t0 = performance.now();
+  try {
+    const bytes = await readBytes(source);
+    if (seq !== latest) return null;
+    const mesh = await client.load(bytes, name);
+    if (seq !== latest) return null;
+    if (!viewer) throw new Error('this browser cannot show 3D graphics (WebGL 2 is not available)');
+    const drawn = viewer.setMesh(mesh);
+    panel.hideError();
+    panel.renderSummary(mesh.summary, name);
+    panel.markSample(sampleFileOf(source));
+    await drawn;
+    if (seq !== latest) return null;
+    Object.assign(quadlay, { summary: mesh.summary, name, error: null, state: 'ready' });
+    const ms = Math.round(performance.now() - t0);
+    panel.setStatus('ready', `Loaded ${name} in ${fmt.format(ms)} ms`);
+    return mesh.summary;
+  } catch (err) {
+    if (seq === latest) {
+      const message = err?.message || String(err);
+      Object.assign(quadlay, { error: message, state: 'error' });
+      panel.showError(`Could not load ${name}`, message);
+      // The summary's heading still names the mesh that stays shown.
+      panel.setStatus('error', `${name} failed to load`);
+    }
+    throw err;
+  } finally {
+    if (seq === latest) panel.setBusy(null);
+  }
+}
+
+/** The 3D view, or null (with the reason on screen) where WebGL is not available. */
+function createViewer() {
+  try {
+    return new Viewer($('viewport'));
+  } catch (err) {
+    panel.showError('No 3D view', `WebGL could not start: ${err?.message || err}`);
+    return null;
+  }
+}
+
+/** Loads from a control of the page: the error is already on screen, nothing to rethrow. */
+function loadFromUi(source) {
+  load(source).catch(() => {});
+}
+
+async function readBytes(source) {
+  if (source instanceof Blob) return source.arrayBuffer();
+  const url = new URL(source, location.href);
+  let response;
+  try {
+    response = await fetch(url);
+  } catch (err) {
+    throw new Error(`could not fetch ${url.href}: ${err.message}`);
+  }
+  if (!response.ok) {
+    throw new Error(`could not fetch ${url.href}: HTTP ${response.status} ${response.statusText}`);
+  }
+  return response.arrayBuffer();
+}
+
+function nameOf(source) {
+  if (source instanceof File) return source.name;
+  const path = new URL(source, location.href).pathname;
+  return decodeURIComponent(path.slice(path.lastIndexOf('/') + 1)) || 'mesh';
+}
+
+/** The sample's file name if `source` is one of the samples, else null. */
+function sampleFileOf(source) {
+  if (source instanceof Blob) return null;
+  const url = new URL(source, location.href);
+  const sample = SAMPLES.find((s) => new URL(`samples/${s.file}`, location.href).href === url.href);
+  return sample?.file ?? null;
+}
+
+// ---- controls ------------------------------------------------------------------------------
+
+panel.initErrorBox();
+panel.renderSamples(SAMPLES, (sample) => loadFromUi(`samples/${sample.file}`));
+
+const fileInput = $('file-input');
+fileInput.addEventListener('change', () => {
+  const file = fileInput.files?.[0];
+  if (file) loadFromUi(file);
+  fileInput.value = ''; // choosing the same file again loads it again
+});
+
+initDropZone($('viewport'), $('drop-hint'), loadFromUi);
+
+const shadingButtons = document.querySelectorAll('[data-shading]');
+function setShading(mode) {
+  for (const b of shadingButtons) b.setAttribute('aria-checked', String(b.dataset.shading === mode));
+  viewer?.setShading(mode);
+}
+for (const b of shadingButtons) b.addEventListener('click', () => setShading(b.dataset.shading));
+
+const wireButton = $('wireframe-toggle');
+function toggleWireframe() {
+  const on = wireButton.getAttribute('aria-pressed') !== 'true';
+  wireButton.setAttribute('aria-pressed', String(on));
+  viewer?.setWireframe(on);
+}
+wireButton.addEventListener('click', toggleWireframe);
+$('reset-view').addEventListener('click', () => viewer?.resetView());
+
+window.addEventListener('keydown', (event) => {
+  if (event.ctrlKey || event.metaKey || event.altKey) return;
+  if (event.target.closest?.('input, textarea, select, [contenteditable]')) return;
+  if (event.key === 'w' || event.key === 'W') toggleWireframe();
+  else if (event.key === 'f' || event.key === 'F') viewer?.resetView();
+});
+
+// ---- first mesh ----------------------------------------------------------------------------
+
+const initial = new URLSearchParams(location.search).get('mesh') ?? `samples/${SAMPLES[0].file}`;
+loadFromUi(initial);
