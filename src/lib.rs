@@ -6,6 +6,7 @@
 //! (`wasm`, built for `wasm32-unknown-unknown`).
 
 pub mod io;
+pub mod layout;
 pub mod mesh;
 pub mod summary;
 

@@ -2,12 +2,15 @@
 //! (one `error:` line on standard error naming the file), 1 anything else.
 
 use quadlay::io::read_mesh_with_resources;
-use quadlay::summary::MeshSummary;
+use quadlay::layout::{build_layout, parse_layout, SurfaceLayout};
+use quadlay::summary::{LayoutSummary, MeshSummary};
 use std::path::Path;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage:
-  quadlay check MESH          read and validate a mesh (OBJ, PLY, STL, glTF/GLB), print a summary
+  quadlay check MESH [--layout LAYOUT]
+                              read and validate a mesh (OBJ, PLY, STL, glTF/GLB) and a layout
+                              (shared/spec/layout-format.md), print a summary
   quadlay --help | --version";
 
 /// An error and the exit status it means.
@@ -49,18 +52,33 @@ fn run(args: &[String]) -> Result<(), Failure> {
 
 fn check(args: &[String]) -> Result<(), Failure> {
     let mut mesh_path = None;
-    for a in args {
-        if a.starts_with('-') {
-            return Err(bad_input(format!("check: unknown option '{a}'")));
-        }
-        if mesh_path.replace(a).is_some() {
-            return Err(bad_input("check takes one mesh file".into()));
+    let mut layout_path = None;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--layout" => {
+                let p = it.next().ok_or_else(|| bad_input("--layout needs a file".into()))?;
+                layout_path = Some(p);
+            }
+            _ if a.starts_with('-') => return Err(bad_input(format!("check: unknown option '{a}'"))),
+            _ if mesh_path.is_some() => return Err(bad_input("check takes one mesh file".into())),
+            _ => mesh_path = Some(a),
         }
     }
     let path = mesh_path.ok_or_else(|| bad_input("check needs a mesh file".into()))?;
     let loaded = load(path)?;
+    let layout = layout_path.map(|lp| load_layout(&loaded.mesh, lp)).transpose()?;
     print!("mesh:           {path}\n{}", MeshSummary::of(&loaded));
+    if let (Some(lp), Some(layout)) = (layout_path, layout) {
+        print!("layout:         {lp}\n{}", LayoutSummary::of(&layout));
+    }
     Ok(())
+}
+
+fn load_layout(mesh: &quadlay::mesh::Mesh, path: &str) -> Result<SurfaceLayout, Failure> {
+    let text = std::fs::read_to_string(path).map_err(|e| bad_input(format!("{path}: cannot read: {e}")))?;
+    let layout = parse_layout(&text).map_err(|e| bad_input(format!("{path}: {e}")))?;
+    build_layout(mesh, &layout).map_err(|e| bad_input(format!("{path}: {e}")))
 }
 
 fn load(path: &str) -> Result<quadlay::io::LoadedMesh, Failure> {

@@ -74,3 +74,77 @@ impl fmt::Display for MeshSummary {
         Ok(())
     }
 }
+
+/// The layout part of `quadlay check --layout`: counts, chart types, and each face.
+#[derive(Debug, Clone, Serialize)]
+pub struct LayoutSummary {
+    pub nodes: usize,
+    pub edges: usize,
+    pub aligned_edges: usize,
+    pub boundary_pieces: usize,
+    pub faces: usize,
+    pub t_vertices: usize,
+    /// Faces per chart type: quad, rect, unit.
+    pub charts: [usize; 3],
+    /// Per face: its corner nodes, T-vertices and chart type.
+    pub face_list: Vec<FaceSummary>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct FaceSummary {
+    pub corners: [u32; 4],
+    pub t_vertices: Vec<u32>,
+    pub chart: crate::layout::ChartType,
+}
+
+impl LayoutSummary {
+    pub fn of(layout: &crate::layout::SurfaceLayout) -> LayoutSummary {
+        use crate::layout::{ChartType, CurveSource};
+        let edges = layout.curves.iter().filter(|c| matches!(c.source, CurveSource::Edge(_))).count();
+        let aligned = layout.curves.iter().filter(|c| c.align && matches!(c.source, CurveSource::Edge(_))).count();
+        let mut charts = [0; 3];
+        for f in &layout.faces {
+            charts[match f.chart {
+                ChartType::Quad => 0,
+                ChartType::Rect => 1,
+                ChartType::Unit => 2,
+            }] += 1;
+        }
+        LayoutSummary {
+            nodes: layout.node_vertex.len(),
+            edges,
+            aligned_edges: aligned,
+            boundary_pieces: layout.curves.len() - edges,
+            faces: layout.faces.len(),
+            t_vertices: layout.t_vertex_count(),
+            charts,
+            face_list: layout
+                .faces
+                .iter()
+                .map(|f| FaceSummary { corners: f.corner_nodes(), t_vertices: f.t_vertices().collect(), chart: f.chart })
+                .collect(),
+        }
+    }
+}
+
+impl fmt::Display for LayoutSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "nodes:          {}", self.nodes)?;
+        writeln!(f, "edges:          {} ({} tagged for alignment)", self.edges, self.aligned_edges)?;
+        writeln!(f, "boundary edges: {}", self.boundary_pieces)?;
+        writeln!(f, "faces:          {}", self.faces)?;
+        writeln!(f, "t-vertices:     {}", self.t_vertices)?;
+        let [q, r, u] = self.charts;
+        writeln!(f, "charts:         {q} quad, {r} rect, {u} unit")?;
+        for (i, face) in self.face_list.iter().enumerate() {
+            let c = face.corners;
+            write!(f, "  face {i}: corners {} {} {} {}, {}", c[0], c[1], c[2], c[3], face.chart.name())?;
+            if !face.t_vertices.is_empty() {
+                let t: Vec<String> = face.t_vertices.iter().map(|n| n.to_string()).collect();
+                write!(f, ", t-vertices {}", t.join(" "))?;
+            }
+            writeln!(f)?;
+        }
+        Ok(())
+    }
+}

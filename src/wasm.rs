@@ -3,12 +3,39 @@
 //! typed arrays, summaries as plain JS objects, errors as JS `Error`s with readable text.
 
 use crate::io::{read_mesh, LoadedMesh};
-use crate::summary::MeshSummary;
+use crate::layout::{build_layout, curve, parse_layout, SurfaceLayout};
+use crate::summary::{LayoutSummary, MeshSummary};
+use serde::Serialize;
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen]
 pub struct Session {
     loaded: LoadedMesh,
+    layout: Option<SurfaceLayout>,
+}
+
+/// A layout curve as the page draws it.
+#[derive(Serialize)]
+struct CurveView {
+    source: String,
+    align: bool,
+    nodes: [u32; 2],
+    /// xyz interleaved.
+    points: Vec<f32>,
+}
+
+#[derive(Serialize)]
+struct LayoutView {
+    summary: LayoutSummary,
+    curves: Vec<CurveView>,
+    /// Face of every mesh vertex (-1 for nodes).
+    vertex_face: Vec<i32>,
+}
+
+fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
+    value
+        .serialize(&serde_wasm_bindgen::Serializer::json_compatible())
+        .map_err(|e| JsError::new(&e.to_string()))
 }
 
 #[wasm_bindgen]
@@ -17,7 +44,7 @@ impl Session {
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8], name: &str) -> Result<Session, JsError> {
         let loaded = read_mesh(bytes, name).map_err(|e| JsError::new(&format!("{name}: {e}")))?;
-        Ok(Session { loaded })
+        Ok(Session { loaded, layout: None })
     }
 
     /// Vertex positions, xyz interleaved, as `Float32Array`.
@@ -32,10 +59,33 @@ impl Session {
 
     /// The summary `quadlay check` prints, as an object.
     pub fn summary(&self) -> Result<JsValue, JsError> {
-        let s = MeshSummary::of(&self.loaded);
-        s.serialize(&serde_wasm_bindgen::Serializer::json_compatible())
-            .map_err(|e| JsError::new(&e.to_string()))
+        to_js(&MeshSummary::of(&self.loaded))
+    }
+
+    /// Places a layout file (format v1, as text) on the mesh. Returns its summary, the
+    /// curves as polylines and the face of every vertex; throws the layout's error.
+    #[wasm_bindgen(js_name = setLayout)]
+    pub fn set_layout(&mut self, text: &str) -> Result<JsValue, JsError> {
+        self.layout = None;
+        let mesh = &self.loaded.mesh;
+        let layout = parse_layout(text).map_err(|e| JsError::new(&e.to_string()))?;
+        let surface = build_layout(mesh, &layout).map_err(|e| JsError::new(&e.to_string()))?;
+        let curves = surface
+            .curves
+            .iter()
+            .map(|c| CurveView {
+                source: c.source.to_string(),
+                align: c.align,
+                nodes: c.nodes,
+                points: c.curve.points.iter().flat_map(|p| curve::position(mesh, p).map(|x| x as f32)).collect(),
+            })
+            .collect();
+        let view = LayoutView {
+            summary: LayoutSummary::of(&surface),
+            curves,
+            vertex_face: surface.vertex_face.iter().map(|&f| if f == u32::MAX { -1 } else { f as i32 }).collect(),
+        };
+        self.layout = Some(surface);
+        to_js(&view)
     }
 }
-
-use serde::Serialize;

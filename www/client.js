@@ -31,6 +31,15 @@ export class CoreClient {
     return this.request(MSG.LOAD, { bytes, name }, [bytes]);
   }
 
+  /**
+   * Places a layout on the worker's current mesh.
+   * @param {string} text the layout file (JSON, format v1)
+   * @returns {Promise<object>} the LayoutView of protocol.js
+   */
+  setLayout(text) {
+    return this.request(MSG.SET_LAYOUT, { text });
+  }
+
   /** Sends one request; resolves to its `result`, rejects with a CoreError. */
   request(type, args = {}, transfer = []) {
     const worker = this.ensureWorker();

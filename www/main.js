@@ -6,17 +6,21 @@
 //   error    the last error's message, null after a successful load
 //   load(url | File) → Promise<summary>; rejects with the error (also shown on the page);
 //            null if a newer load overtook it
-// `?mesh=URL` loads that mesh instead of the first sample.
+//   layout   the shown layout's summary (protocol.js, SET_LAYOUT), null without one
+//   loadLayout(url | File) → Promise<layout summary>; rejects with the layout's error
+// `?mesh=URL` loads that mesh instead of the first sample, `&layout=URL` a layout on it,
+// `&view=x,y,z` looks from that direction.
 import { CoreClient } from './client.js';
 import { initDropZone } from './dropzone.js';
 import * as panel from './panel.js';
+import { layoutOverlay, faceColors } from './layout-view.js';
 import { SAMPLES } from './samples.js';
 import { Viewer } from './viewer.js';
 
 const $ = (id) => document.getElementById(id);
 const fmt = new Intl.NumberFormat('en-US');
 
-const quadlay = { state: 'loading', summary: null, name: null, error: null, load };
+const quadlay = { state: 'loading', summary: null, name: null, error: null, layout: null, load, loadLayout };
 window.quadlay = quadlay;
 
 const client = new CoreClient();
@@ -42,6 +46,9 @@ async function load(source) {
     if (seq !== latest) return null;
     if (!viewer) throw new Error('this browser cannot show 3D graphics (WebGL 2 is not available)');
     const drawn = viewer.setMesh(mesh);
+    viewer.setOverlay(null);
+    quadlay.layout = null;
+    panel.renderLayoutSummary(null);
     panel.hideError();
     panel.renderSummary(mesh.summary, name);
     panel.markSample(sampleFileOf(source));
@@ -62,6 +69,37 @@ async function load(source) {
     throw err;
   } finally {
     if (seq === latest) panel.setBusy(null);
+  }
+}
+
+/**
+ * Places a layout (URL relative to the page, or a File) on the shown mesh and draws it.
+ * @param {string|URL|File} source
+ */
+async function loadLayout(source) {
+  const name = nameOf(source);
+  const seq = latest;
+  quadlay.state = 'loading';
+  panel.setStatus('loading', `Placing ${name}…`);
+  const t0 = performance.now();
+  try {
+    const text = new TextDecoder().decode(await readBytes(source));
+    const view = await client.setLayout(text);
+    if (seq !== latest) return null;
+    const overlay = layoutOverlay(view, viewer.radius, viewer.resolution);
+    await viewer.setOverlay(overlay, faceColors(view.vertex_face));
+    panel.hideError();
+    panel.renderLayoutSummary(view.summary, name);
+    Object.assign(quadlay, { layout: view.summary, error: null, state: 'ready' });
+    const ms = Math.round(performance.now() - t0);
+    panel.setStatus('ready', `Placed ${name}: ${view.summary.faces} faces in ${fmt.format(ms)} ms`);
+    return view.summary;
+  } catch (err) {
+    const message = err?.message || String(err);
+    Object.assign(quadlay, { error: message, state: 'error' });
+    panel.showError(`Layout ${name} does not fit`, message);
+    panel.setStatus('error', `${name}: not placed`);
+    throw err;
   }
 }
 
@@ -112,7 +150,21 @@ function sampleFileOf(source) {
 // ---- controls ------------------------------------------------------------------------------
 
 panel.initErrorBox();
-panel.renderSamples(SAMPLES, (sample) => loadFromUi(`samples/${sample.file}`));
+panel.renderSamples(SAMPLES, (sample) => loadWithLayout(`samples/${sample.file}`, sample.layout));
+
+/** Loads a mesh, then (if given) a layout on it; errors are shown on the page. */
+function loadWithLayout(mesh, layout) {
+  load(mesh)
+    .then((summary) => (summary && layout ? loadLayout(layout) : null))
+    .catch(() => {});
+}
+
+const layoutInput = $('layout-input');
+layoutInput.addEventListener('change', () => {
+  const file = layoutInput.files?.[0];
+  if (file) loadLayout(file).catch(() => {});
+  layoutInput.value = '';
+});
 
 const fileInput = $('file-input');
 fileInput.addEventListener('change', () => {
@@ -121,7 +173,11 @@ fileInput.addEventListener('change', () => {
   fileInput.value = ''; // choosing the same file again loads it again
 });
 
-initDropZone($('viewport'), $('drop-hint'), loadFromUi);
+// A dropped .json is a layout for the shown mesh; anything else a mesh.
+initDropZone($('viewport'), $('drop-hint'), (file) => {
+  if (file.name.toLowerCase().endsWith('.json')) loadLayout(file).catch(() => {});
+  else loadFromUi(file);
+});
 
 const shadingButtons = document.querySelectorAll('[data-shading]');
 function setShading(mode) {
@@ -148,5 +204,8 @@ window.addEventListener('keydown', (event) => {
 
 // ---- first mesh ----------------------------------------------------------------------------
 
-const initial = new URLSearchParams(location.search).get('mesh') ?? `samples/${SAMPLES[0].file}`;
-loadFromUi(initial);
+const params = new URLSearchParams(location.search);
+const view = params.get('view')?.split(',').map(Number);
+if (view?.length === 3 && view.every(Number.isFinite)) viewer?.setViewFrom(view);
+if (params.has('mesh')) loadWithLayout(params.get('mesh'), params.get('layout'));
+else loadWithLayout(`samples/${SAMPLES[0].file}`, SAMPLES[0].layout);

@@ -75,7 +75,11 @@ export function renderSummary(summary, name) {
     row('unreferenced_vertices', 'Unused vertices', num(unref), unref ? 'warn' : 'none');
   }
 
-  const dl = $('summary');
+  renderRows($('summary'), rows);
+}
+
+/** Fills a <dl> with [key, label, value, class] rows; a row without value is a heading. */
+function renderRows(dl, rows) {
   dl.replaceChildren();
   for (const [key, label, value, cls] of rows) {
     if (value === undefined) {
@@ -94,6 +98,27 @@ export function renderSummary(summary, name) {
     if (cls) dd.className = cls;
     dl.append(dt, dd);
   }
+}
+
+/**
+ * Shows the layout's summary (protocol.js, SET_LAYOUT), or hides the card with null.
+ * @param {object|null} summary
+ * @param {string} name the layout's file name
+ */
+export function renderLayoutSummary(summary, name) {
+  $('layout-card').hidden = !summary;
+  if (!summary) return;
+  $('layout-name').textContent = name;
+  $('layout-name').title = name;
+  const [quad, rect, unit] = summary.charts;
+  renderRows($('layout-summary'), [
+    ['nodes', 'Nodes', num(summary.nodes)],
+    ['edges', 'Edges', `${num(summary.edges)} (${num(summary.aligned_edges)} tagged)`],
+    ['boundary_pieces', 'Boundary edges', num(summary.boundary_pieces)],
+    ['faces', 'Faces', num(summary.faces)],
+    ['t_vertices', 'T-vertices', num(summary.t_vertices)],
+    ['charts', 'Charts', `${quad} quad · ${rect} rect · ${unit} unit`],
+  ]);
 }
 
 /** Shows the error box with a readable message. */

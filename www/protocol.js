@@ -30,4 +30,16 @@ export const MSG = Object.freeze({
    *   repairs: { welded_vertices, removed_zero_area_faces, unreferenced_vertices } }
    */
   LOAD: 'load',
+  /**
+   * Place a layout (format v1, see shared/spec/layout-format.md) on the current mesh.
+   * args:   { text: string — the layout file's JSON }
+   * result: LayoutView { summary: { nodes, edges, aligned_edges, boundary_pieces, faces,
+   *           t_vertices, charts: [quad, rect, unit], face_list: [{ corners, t_vertices,
+   *           chart }] },
+   *           curves: [{ source: 'edges[3]' | 'boundary loop 0', align, nodes: [a, b],
+   *                      points: number[] (xyz interleaved) }],
+   *           vertex_face: number[] (face of every mesh vertex, -1 for nodes) }
+   * On error (the layout's rule that fails, naming the entry) the worker has no layout.
+   */
+  SET_LAYOUT: 'set-layout',
 });

@@ -57,6 +57,7 @@ export class Viewer {
     this.wire = null;
     /** Layers drawn over the surface (layout curves, nodes, ...). */
     this.overlays = new THREE.Group();
+    this.resolution = new THREE.Vector2(1, 1);
     this.scene.add(this.overlays);
 
     this.framePending = false;
@@ -112,6 +113,39 @@ export class Viewer {
     return this.nextFrame();
   }
 
+  /**
+   * Replaces the layers drawn over the surface with `group` (null clears them), and the
+   * surface's per-vertex colours with `colors` (null: plain surface).
+   */
+  setOverlay(group, colors = null) {
+    for (const child of [...this.overlays.children]) {
+      this.overlays.remove(child);
+      child.traverse((o) => {
+        o.geometry?.dispose();
+      });
+    }
+    if (group) this.overlays.add(group);
+    if (this.mesh) {
+      const geometry = this.mesh.geometry;
+      if (colors) geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+      else geometry.deleteAttribute('color');
+      this.material.vertexColors = Boolean(colors);
+      this.material.color.set(colors ? 0xffffff : SURFACE);
+      this.material.needsUpdate = true;
+    }
+    return this.nextFrame();
+  }
+
+  /** The mesh's bounding radius (to size overlays), 1 before a mesh is set. */
+  get radius() {
+    return this.home?.radius ?? 1;
+  }
+
+  /** Looks from direction `dir` ([x, y, z] from the mesh's centre) when framing meshes. */
+  setViewFrom(dir) {
+    this.viewFrom = new THREE.Vector3(...dir).normalize();
+  }
+
   /** @param {'flat'|'smooth'} mode */
   setShading(mode) {
     this.material.flatShading = mode === 'flat';
@@ -147,7 +181,7 @@ export class Viewer {
    * Uses the vertices rather than the bounding sphere so the mesh fills the viewport.
    */
   fitView(positions, sphere) {
-    const back = VIEW_FROM.clone();
+    const back = (this.viewFrom ?? VIEW_FROM).clone();
     const right = new THREE.Vector3(0, 1, 0).cross(back).normalize();
     const up = back.clone().cross(right);
     const c = sphere.center;
@@ -211,6 +245,8 @@ export class Viewer {
     const { clientWidth: w, clientHeight: h } = this.container;
     if (w === 0 || h === 0) return;
     this.renderer.setSize(w, h, false);
+    // Thick lines (LineMaterial) need the canvas size in pixels.
+    this.resolution.set(w, h);
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
     // Drawn at once: the resized canvas is blank until the next render.

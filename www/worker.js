@@ -22,6 +22,10 @@ const handlers = {
       transfer: [positions.buffer, triangles.buffer],
     };
   },
+  [MSG.SET_LAYOUT]({ text }) {
+    if (!session) throw new Error('load a mesh before a layout');
+    return { result: session.setLayout(text) };
+  },
 };
 
 // Set before anything is awaited: messages that arrive while the wasm is still being

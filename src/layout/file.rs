@@ -1,0 +1,435 @@
+//! The layout file, format version 1 (shared/spec/layout-format.md): reading with every
+//! rule of the spec checked, writing, and resolving nodes and waypoints to mesh vertices.
+//!
+//! The JSON is walked by hand rather than through derived deserializers so that every
+//! error names its entry (`edges[3].via[0]: ...`) and says what was expected.
+
+use crate::mesh::Mesh;
+use serde_json::{json, Map, Value};
+use std::fmt;
+
+/// Where a node or waypoint sits: a mesh vertex, or a point snapped to the nearest vertex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Location {
+    Vertex(u32),
+    Point([f64; 3]),
+}
+
+/// Chart type of a layout face (paper, Section 3 and 3.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ChartType {
+    /// General quadrilateral, 5 degrees of freedom.
+    #[default]
+    Quad,
+    /// Rectangle, 2 degrees of freedom (width, height).
+    Rect,
+    /// Unit square, no degrees of freedom.
+    Unit,
+}
+
+impl ChartType {
+    pub fn parse(s: &str) -> Option<ChartType> {
+        match s {
+            "quad" => Some(ChartType::Quad),
+            "rect" => Some(ChartType::Rect),
+            "unit" => Some(ChartType::Unit),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            ChartType::Quad => "quad",
+            ChartType::Rect => "rect",
+            ChartType::Unit => "unit",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct EdgeSpec {
+    pub nodes: [u32; 2],
+    pub align: bool,
+    pub via: Vec<Location>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct PatchSpec {
+    /// Four node indices, counter-clockwise around the face.
+    pub corners: [u32; 4],
+    pub chart: Option<ChartType>,
+}
+
+/// A layout as the file states it (nodes not yet snapped to the mesh).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Layout {
+    pub nodes: Vec<Location>,
+    pub edges: Vec<EdgeSpec>,
+    pub patches: Vec<PatchSpec>,
+    pub default_chart: ChartType,
+}
+
+/// What is wrong with an entry of a layout file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Problem {
+    Json(String),
+    UnknownKey(String),
+    Missing(&'static str),
+    Expected(&'static str),
+    WrongFormat(String),
+    UnsupportedVersion(Value),
+    NotFinite,
+    NoSuchNode { node: u64, nodes: usize },
+    NoSuchVertex { vertex: u64, vertices: usize },
+    /// The vertex belongs to no face of the mesh.
+    IsolatedVertex { vertex: u32 },
+    SameVertex { vertex: u32, other: usize },
+    SelfLoop,
+    UnknownChart(String),
+    RepeatedCorner(u32),
+}
+
+/// A layout error: the entry it is about (`nodes[2]`, `edges[3].via[0]`, or empty for the
+/// whole document) and the problem.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LayoutFileError {
+    pub entry: String,
+    pub problem: Problem,
+}
+
+impl fmt::Display for LayoutFileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if !self.entry.is_empty() {
+            write!(f, "{}: ", self.entry)?;
+        }
+        match &self.problem {
+            Problem::Json(e) => write!(f, "not valid JSON: {e}"),
+            Problem::UnknownKey(k) => write!(f, "unknown key '{k}'"),
+            Problem::Missing(k) => write!(f, "missing '{k}'"),
+            Problem::Expected(what) => write!(f, "expected {what}"),
+            Problem::WrongFormat(s) => write!(f, "format is '{s}', expected 'quad-layout'"),
+            Problem::UnsupportedVersion(v) => write!(f, "version {v} is not supported (this reader knows version 1)"),
+            Problem::NotFinite => write!(f, "coordinates must be finite numbers"),
+            Problem::NoSuchNode { node, nodes } => write!(f, "node {node} does not exist ({nodes} nodes)"),
+            Problem::NoSuchVertex { vertex, vertices } => {
+                write!(f, "vertex {vertex} does not exist (the mesh has {vertices} vertices)")
+            }
+            Problem::IsolatedVertex { vertex } => write!(f, "vertex {vertex} belongs to no triangle"),
+            Problem::SameVertex { vertex, other } => {
+                write!(f, "on mesh vertex {vertex}, like nodes[{other}]")
+            }
+            Problem::SelfLoop => write!(f, "an edge must join two different nodes"),
+            Problem::UnknownChart(c) => write!(f, "unknown chart type '{c}' (quad, rect or unit)"),
+            Problem::RepeatedCorner(n) => write!(f, "node {n} is named twice as a corner"),
+        }
+    }
+}
+
+impl std::error::Error for LayoutFileError {}
+
+fn err(entry: impl Into<String>, problem: Problem) -> LayoutFileError {
+    LayoutFileError { entry: entry.into(), problem }
+}
+
+/// An object's fields, refusing keys outside `allowed`.
+fn object<'a>(
+    v: &'a Value,
+    entry: &str,
+    allowed: &[&str],
+    what: &'static str,
+) -> Result<&'a Map<String, Value>, LayoutFileError> {
+    let obj = v.as_object().ok_or_else(|| err(entry, Problem::Expected(what)))?;
+    if let Some(k) = obj.keys().find(|k| !allowed.contains(&k.as_str())) {
+        return Err(err(entry, Problem::UnknownKey(k.clone())));
+    }
+    Ok(obj)
+}
+
+fn array<'a>(v: &'a Value, entry: &str, what: &'static str) -> Result<&'a Vec<Value>, LayoutFileError> {
+    v.as_array().ok_or_else(|| err(entry, Problem::Expected(what)))
+}
+
+fn index(v: &Value, entry: &str) -> Result<u64, LayoutFileError> {
+    v.as_u64().ok_or_else(|| err(entry, Problem::Expected("a non-negative whole number")))
+}
+
+fn node_index(v: &Value, entry: &str, nodes: usize) -> Result<u32, LayoutFileError> {
+    let n = index(v, entry)?;
+    if n >= nodes as u64 {
+        return Err(err(entry, Problem::NoSuchNode { node: n, nodes }));
+    }
+    Ok(n as u32)
+}
+
+fn location(v: &Value, entry: &str) -> Result<Location, LayoutFileError> {
+    const WHAT: &str = "{\"vertex\": i} or {\"point\": [x, y, z]}";
+    let obj = object(v, entry, &["vertex", "point"], WHAT)?;
+    match (obj.get("vertex"), obj.get("point")) {
+        (Some(i), None) => {
+            let i = index(i, &format!("{entry}.vertex"))?;
+            u32::try_from(i)
+                .map(Location::Vertex)
+                .map_err(|_| err(entry, Problem::NoSuchVertex { vertex: i, vertices: 0 }))
+        }
+        (None, Some(p)) => {
+            let e = format!("{entry}.point");
+            let a = array(p, &e, "[x, y, z]")?;
+            if a.len() != 3 {
+                return Err(err(e, Problem::Expected("[x, y, z]")));
+            }
+            let mut xyz = [0.0; 3];
+            for (k, c) in a.iter().enumerate() {
+                // JSON has no NaN or infinity: JavaScript writes them as null, and serde_json
+                // refuses literals that overflow.
+                if c.is_null() {
+                    return Err(err(&e, Problem::NotFinite));
+                }
+                xyz[k] = c.as_f64().ok_or_else(|| err(&e, Problem::Expected("[x, y, z] numbers")))?;
+                if !xyz[k].is_finite() {
+                    return Err(err(&e, Problem::NotFinite));
+                }
+            }
+            Ok(Location::Point(xyz))
+        }
+        _ => Err(err(entry, Problem::Expected(WHAT))),
+    }
+}
+
+/// Parses a layout file and checks every rule that does not need the mesh.
+///
+/// # Errors
+/// [`LayoutFileError`] naming the entry.
+pub fn parse_layout(text: &str) -> Result<Layout, LayoutFileError> {
+    let doc: Value = serde_json::from_str(text).map_err(|e| err("", Problem::Json(e.to_string())))?;
+    let root = object(&doc, "", &["format", "version", "nodes", "edges", "patches", "defaults"], "a JSON object")?;
+    match root.get("format") {
+        Some(Value::String(s)) if s == "quad-layout" => {}
+        Some(Value::String(s)) => return Err(err("format", Problem::WrongFormat(s.clone()))),
+        Some(_) => return Err(err("format", Problem::Expected("the string \"quad-layout\""))),
+        None => return Err(err("", Problem::Missing("format"))),
+    }
+    match root.get("version") {
+        Some(v) if v.as_u64() == Some(1) => {}
+        Some(v) => return Err(err("version", Problem::UnsupportedVersion(v.clone()))),
+        None => return Err(err("", Problem::Missing("version"))),
+    }
+    let nodes_v = root.get("nodes").ok_or_else(|| err("", Problem::Missing("nodes")))?;
+    let nodes = array(nodes_v, "nodes", "an array of nodes")?
+        .iter()
+        .enumerate()
+        .map(|(i, v)| location(v, &format!("nodes[{i}]")))
+        .collect::<Result<Vec<_>, _>>()?;
+    let n = nodes.len();
+
+    let mut edges = Vec::new();
+    let empty = Vec::new();
+    let edge_values = match root.get("edges") {
+        Some(v) => array(v, "edges", "an array of edges")?,
+        None => &empty,
+    };
+    for (i, v) in edge_values.iter().enumerate() {
+        let entry = format!("edges[{i}]");
+        let obj = object(v, &entry, &["nodes", "align", "via"], "an object")?;
+        let pair = obj.get("nodes").ok_or_else(|| err(&entry, Problem::Missing("nodes")))?;
+        let pair = array(pair, &format!("{entry}.nodes"), "[a, b]")?;
+        if pair.len() != 2 {
+            return Err(err(format!("{entry}.nodes"), Problem::Expected("two node indices [a, b]")));
+        }
+        let a = node_index(&pair[0], &entry, n)?;
+        let b = node_index(&pair[1], &entry, n)?;
+        if a == b {
+            return Err(err(&entry, Problem::SelfLoop));
+        }
+        let align = match obj.get("align") {
+            None => false,
+            Some(Value::Bool(b)) => *b,
+            Some(_) => return Err(err(format!("{entry}.align"), Problem::Expected("true or false"))),
+        };
+        let via = match obj.get("via") {
+            None => Vec::new(),
+            Some(v) => array(v, &format!("{entry}.via"), "an array of waypoints")?
+                .iter()
+                .enumerate()
+                .map(|(k, w)| location(w, &format!("{entry}.via[{k}]")))
+                .collect::<Result<_, _>>()?,
+        };
+        edges.push(EdgeSpec { nodes: [a, b], align, via });
+    }
+
+    let chart = |v: &Value, entry: &str| -> Result<ChartType, LayoutFileError> {
+        let s = v.as_str().ok_or_else(|| err(entry, Problem::Expected("\"quad\", \"rect\" or \"unit\"")))?;
+        ChartType::parse(s).ok_or_else(|| err(entry, Problem::UnknownChart(s.to_string())))
+    };
+    let mut patches = Vec::new();
+    if let Some(v) = root.get("patches") {
+        for (i, p) in array(v, "patches", "an array of patches")?.iter().enumerate() {
+            let entry = format!("patches[{i}]");
+            let obj = object(p, &entry, &["corners", "chart"], "an object")?;
+            let c = obj.get("corners").ok_or_else(|| err(&entry, Problem::Missing("corners")))?;
+            let c = array(c, &format!("{entry}.corners"), "four node indices")?;
+            if c.len() != 4 {
+                return Err(err(format!("{entry}.corners"), Problem::Expected("four node indices")));
+            }
+            let mut corners = [0u32; 4];
+            for k in 0..4 {
+                corners[k] = node_index(&c[k], &entry, n)?;
+                if corners[..k].contains(&corners[k]) {
+                    return Err(err(&entry, Problem::RepeatedCorner(corners[k])));
+                }
+            }
+            let chart = obj.get("chart").map(|c| chart(c, &format!("{entry}.chart"))).transpose()?;
+            patches.push(PatchSpec { corners, chart });
+        }
+    }
+    let mut default_chart = ChartType::Quad;
+    if let Some(d) = root.get("defaults") {
+        let obj = object(d, "defaults", &["chart"], "an object")?;
+        if let Some(c) = obj.get("chart") {
+            default_chart = chart(c, "defaults.chart")?;
+        }
+    }
+    Ok(Layout { nodes, edges, patches, default_chart })
+}
+
+fn location_json(l: &Location) -> Value {
+    match l {
+        Location::Vertex(v) => json!({ "vertex": v }),
+        Location::Point(p) => json!({ "point": p }),
+    }
+}
+
+/// The layout as a version 1 file (pretty JSON). `parse_layout` reads it back unchanged.
+pub fn write_layout(layout: &Layout) -> String {
+    let edges: Vec<Value> = layout
+        .edges
+        .iter()
+        .map(|e| {
+            let mut o = json!({ "nodes": e.nodes });
+            if e.align {
+                o["align"] = json!(true);
+            }
+            if !e.via.is_empty() {
+                o["via"] = Value::Array(e.via.iter().map(location_json).collect());
+            }
+            o
+        })
+        .collect();
+    let mut doc = json!({
+        "format": "quad-layout",
+        "version": 1,
+        "nodes": layout.nodes.iter().map(location_json).collect::<Vec<_>>(),
+        "edges": edges,
+    });
+    if !layout.patches.is_empty() {
+        doc["patches"] = Value::Array(
+            layout
+                .patches
+                .iter()
+                .map(|p| {
+                    let mut o = json!({ "corners": p.corners });
+                    if let Some(c) = p.chart {
+                        o["chart"] = json!(c.name());
+                    }
+                    o
+                })
+                .collect(),
+        );
+    }
+    if layout.default_chart != ChartType::Quad {
+        doc["defaults"] = json!({ "chart": layout.default_chart.name() });
+    }
+    serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
+}
+
+/// The mesh vertex of a location: the vertex itself (checked), or the nearest vertex that
+/// belongs to a triangle.
+pub fn resolve_location(mesh: &Mesh, l: &Location, entry: &str) -> Result<u32, LayoutFileError> {
+    match *l {
+        Location::Vertex(v) => {
+            if v as usize >= mesh.n_vertices() {
+                let vertices = mesh.n_vertices();
+                return Err(err(entry, Problem::NoSuchVertex { vertex: v as u64, vertices }));
+            }
+            if mesh.is_isolated(v) {
+                return Err(err(entry, Problem::IsolatedVertex { vertex: v }));
+            }
+            Ok(v)
+        }
+        Location::Point(p) => {
+            let d2 = |q: &[f64; 3]| (0..3).map(|k| (q[k] - p[k]).powi(2)).sum::<f64>();
+            let mut best = (f64::INFINITY, 0u32);
+            for (v, q) in mesh.positions().iter().enumerate() {
+                if !mesh.is_isolated(v as u32) && d2(q) < best.0 {
+                    best = (d2(q), v as u32);
+                }
+            }
+            Ok(best.1)
+        }
+    }
+}
+
+/// The mesh vertex of every node; two nodes on one vertex are an error.
+pub fn resolve_nodes(mesh: &Mesh, layout: &Layout) -> Result<Vec<u32>, LayoutFileError> {
+    let mut owner = std::collections::HashMap::new();
+    let mut out = Vec::with_capacity(layout.nodes.len());
+    for (i, l) in layout.nodes.iter().enumerate() {
+        let entry = format!("nodes[{i}]");
+        let v = resolve_location(mesh, l, &entry)?;
+        if let Some(&other) = owner.get(&v) {
+            return Err(err(entry, Problem::SameVertex { vertex: v, other }));
+        }
+        owner.insert(v, i);
+        out.push(v);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const EXAMPLE: &str = r#"{
+      "format": "quad-layout", "version": 1,
+      "nodes": [ { "vertex": 120 }, { "point": [0.12, 0.5, -0.3] }, { "vertex": 3 } ],
+      "edges": [
+        { "nodes": [0, 1] },
+        { "nodes": [1, 2], "align": true, "via": [ { "vertex": 77 }, { "point": [0.2, 0.4, 0.0] } ] }
+      ],
+      "patches": [ { "corners": [0, 1, 2, 0], "chart": "quad" } ],
+      "defaults": { "chart": "rect" }
+    }"#;
+
+    #[test]
+    fn round_trip() {
+        let text = EXAMPLE.replace("[0, 1, 2, 0]", "[0, 1, 2, 1]");
+        assert_eq!(parse_layout(&text).unwrap_err().to_string(), "patches[0]: node 1 is named twice as a corner");
+        let text = EXAMPLE.replace(r#""corners": [0, 1, 2, 0], "#, r#""corners": [0, 1, 2, 3], "#);
+        let text = text.replace(r#"{ "vertex": 3 } ]"#, r#"{ "vertex": 3 }, { "vertex": 4 } ]"#);
+        let l = parse_layout(&text).unwrap();
+        assert_eq!(l.default_chart, ChartType::Rect);
+        assert_eq!(l.edges[1].via[1], Location::Point([0.2, 0.4, 0.0]));
+        assert_eq!(parse_layout(&write_layout(&l)).unwrap(), l);
+    }
+
+    #[test]
+    fn each_rule_names_its_entry() {
+        let base = r#"{"format":"quad-layout","version":1,"nodes":[{"vertex":0},{"vertex":1}],"edges":[EDGES]}"#;
+        let cases = [
+            (base.replace("EDGES", r#"{"nodes":[0,5]}"#), "edges[0]: node 5 does not exist (2 nodes)"),
+            (base.replace("EDGES", r#"{"nodes":[1,1]}"#), "edges[0]: an edge must join two different nodes"),
+            (base.replace("EDGES", r#"{"nodes":[0,1],"color":3}"#), "edges[0]: unknown key 'color'"),
+            (base.replace("EDGES", r#"{"nodes":[0,1],"align":"yes"}"#), "edges[0].align: expected true or false"),
+            (base.replace("EDGES", r#"{"nodes":[0,1],"via":[{"point":[0,null,0]}]}"#), "edges[0].via[0].point: coordinates must be finite numbers"),
+            (base.replace("EDGES", "").replace("\"version\":1", "\"version\":2"), "version: version 2 is not supported (this reader knows version 1)"),
+            (base.replace("EDGES", "").replace("quad-layout", "quad"), "format: format is 'quad', expected 'quad-layout'"),
+            (base.replace("EDGES", "").replace("{\"vertex\":1}", "{\"vertex\":-1}"), "nodes[1].vertex: expected a non-negative whole number"),
+            (base.replace("EDGES", "").replace("{\"vertex\":1}", "{\"vertex\":1,\"point\":[0,0,0]}"), "nodes[1]: expected {\"vertex\": i} or {\"point\": [x, y, z]}"),
+            (base.replace("EDGES", "").replace("\"edges\":[]", "\"edges\":[],\"defaults\":{\"chart\":\"hex\"}"), "defaults.chart: unknown chart type 'hex' (quad, rect or unit)"),
+        ];
+        for (text, want) in cases {
+            let got = parse_layout(&text).map(|_| ()).unwrap_err().to_string();
+            assert_eq!(got, want, "{text}");
+        }
+        assert!(parse_layout("{").unwrap_err().to_string().starts_with("not valid JSON"));
+    }
+}
