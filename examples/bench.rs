@@ -1,9 +1,11 @@
 //! Native benchmark behind `npm run bench` (scripts/bench.mjs runs it and writes the file).
 //! For each mesh given: the median time of reading the bytes into a validated halfedge mesh
-//! (parse + connectivity), of the topology pass, and of the cotangent weights.
+//! (parse + connectivity), of the topology pass, and of the cotangent weights; for an
+//! argument `MESH@LAYOUT`, also of placing the layout (tracing its curves, faces, patches).
 //! Prints one JSON object per mesh.
 
 use quadlay::io::read_mesh;
+use quadlay::layout::{build_layout, parse_layout};
 use quadlay::mesh::{geometry, topology};
 use std::time::Instant;
 
@@ -21,7 +23,11 @@ fn median_ms(mut f: impl FnMut()) -> f64 {
 }
 
 fn main() {
-    for path in std::env::args().skip(1) {
+    for arg in std::env::args().skip(1) {
+        let (path, layout_path) = match arg.split_once('@') {
+            Some((m, l)) => (m.to_string(), Some(l.to_string())),
+            None => (arg.clone(), None),
+        };
         let bytes = match std::fs::read(&path) {
             Ok(b) => b,
             Err(e) => {
@@ -45,9 +51,27 @@ fn main() {
         let cot = median_ms(|| {
             std::hint::black_box(geometry::cotangent_weights(&mesh));
         });
+        let layout_ms = layout_path.map(|lp| {
+            let text = std::fs::read_to_string(&lp).unwrap_or_default();
+            let layout = match parse_layout(&text) {
+                Ok(l) => l,
+                Err(e) => {
+                    eprintln!("error: {lp}: {e}");
+                    std::process::exit(2);
+                }
+            };
+            if let Err(e) = build_layout(&mesh, &layout) {
+                eprintln!("error: {lp}: {e}");
+                std::process::exit(2);
+            }
+            median_ms(|| {
+                std::hint::black_box(build_layout(&mesh, &layout).ok());
+            })
+        });
         let name = path.rsplit('/').next().unwrap_or(&path);
+        let layout_json = layout_ms.map_or(String::new(), |ms| format!(",\"layout_ms\":{ms:.3}"));
         println!(
-            "{{\"mesh\":\"{name}\",\"vertices\":{},\"triangles\":{},\"load_ms\":{load:.3},\"topology_ms\":{topo:.3},\"cotangent_weights_ms\":{cot:.3}}}",
+            "{{\"mesh\":\"{name}\",\"vertices\":{},\"triangles\":{},\"load_ms\":{load:.3},\"topology_ms\":{topo:.3},\"cotangent_weights_ms\":{cot:.3}{layout_json}}}",
             mesh.n_vertices(),
             mesh.n_faces()
         );

@@ -12,9 +12,14 @@ const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const MESHES = ['nefertiti.obj', 'eight.obj', 'bunny_1k8.obj', 'mushroom.obj', 'fandisk.obj',
   'bunny_28k.obj', 'elephant_44k.obj'];
 const paths = MESHES.map((m) => join(root, '..', 'shared', 'meshes', m));
+// The sample layout timed on each mesh (www/layouts), as in the page's gallery.
+const LAYOUTS = { 'fandisk.obj': 'fandisk-cube', 'mushroom.obj': 'mushroom-t', 'eight.obj': 'eight-rims',
+  'bunny_28k.obj': 'bunny-cube' };
+const layoutPath = (m) => LAYOUTS[m] && join(root, 'www', 'layouts', `${LAYOUTS[m]}.layout.json`);
 
 console.log('bench: native (cargo run --release --example bench)');
-const out = execFileSync('cargo', ['run', '--quiet', '--release', '--example', 'bench', '--', ...paths],
+const out = execFileSync('cargo', ['run', '--quiet', '--release', '--example', 'bench', '--',
+  ...paths.map((p, i) => (LAYOUTS[MESHES[i]] ? `${p}@${layoutPath(MESHES[i])}` : p))],
   { cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
 const native = out.trim().split('\n').map((l) => JSON.parse(l));
 
@@ -34,23 +39,31 @@ console.log('bench: wasm in Node (target/wasm-node)');
 const { Session } = createRequire(import.meta.url)(join(root, 'target/wasm-node/quadlay.js'));
 const wasm = MESHES.map((mesh, i) => {
   const bytes = new Uint8Array(readFileSync(paths[i]));
-  return { mesh, load_ms: Number(medianMs(() => new Session(bytes, mesh).free()).toFixed(3)) };
+  const row = { mesh, load_ms: Number(medianMs(() => new Session(bytes, mesh).free()).toFixed(3)) };
+  if (LAYOUTS[mesh]) {
+    const text = readFileSync(layoutPath(mesh), 'utf8');
+    const s = new Session(bytes, mesh);
+    row.layout_ms = Number(medianMs(() => s.setLayout(text)).toFixed(3));
+    s.free();
+  }
+  return row;
 });
 
 const results = {
   date: new Date().toISOString(),
   machine: { cpus: cpus().length, cpu: cpus()[0]?.model, node: process.version },
-  what: 'load_ms: bytes to validated halfedge mesh (parse + connectivity), median',
+  what: 'median ms. load: bytes to validated halfedge mesh (parse + connectivity); ' +
+    'layout: placing the sample layout (curves, faces, patches)',
   native,
   wasm_node: wasm,
 };
 mkdirSync(join(root, 'bench'), { recursive: true });
 writeFileSync(join(root, 'bench/results.json'), JSON.stringify(results, null, 2) + '\n');
 
-console.log('\nmesh               triangles  native load  wasm load   topology  cot weights (ms)');
+const cell = (x, w) => (x === undefined ? '-' : x.toFixed(2)).padStart(w);
+console.log('\nmesh               triangles  load native   wasm  layout native   wasm  topology  cot weights (ms)');
 for (const [i, n] of native.entries()) {
-  console.log(`${n.mesh.padEnd(18)} ${String(n.triangles).padStart(9)}  ${n.load_ms.toFixed(2).padStart(11)}` +
-    `  ${wasm[i].load_ms.toFixed(2).padStart(9)}  ${n.topology_ms.toFixed(2).padStart(9)}` +
-    `  ${n.cotangent_weights_ms.toFixed(2).padStart(11)}`);
+  console.log(`${n.mesh.padEnd(18)} ${String(n.triangles).padStart(9)}  ${cell(n.load_ms, 11)} ${cell(wasm[i].load_ms, 6)}` +
+    `  ${cell(n.layout_ms, 13)} ${cell(wasm[i].layout_ms, 6)}  ${cell(n.topology_ms, 8)}  ${cell(n.cotangent_weights_ms, 11)}`);
 }
 console.log('\nbench: written to bench/results.json');

@@ -30,11 +30,13 @@ class Shape {
   p(i) {
     return [this.P[3 * i], this.P[3 * i + 1], this.P[3 * i + 2]];
   }
-  /** The vertex farthest in direction `d` (in box-normalized coordinates). */
-  extreme(d) {
+  /** The vertex farthest in direction `d` (in box-normalized coordinates), among those for
+   * which `keep(box-normalized position)` holds. */
+  extreme(d, keep = () => true) {
     let best = -Infinity, arg = 0;
     for (let i = 0; i < this.n; i++) {
       const q = this.p(i);
+      if (!keep(q.map((x, k) => (x - this.center[k]) / this.half[k]))) continue;
       const s = q.reduce((acc, x, k) => acc + d[k] * (x - this.center[k]) / this.half[k], 0);
       if (s > best) [best, arg] = [s, i];
     }
@@ -76,9 +78,10 @@ class Shape {
 const CUBE_CORNERS = [[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1], [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]];
 const CUBE_EDGES = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]];
 
-/** A cube-like layout: the 8 vertices farthest toward the box's corners, the cube's edges. */
-function cube(shape, { align = true } = {}) {
-  const nodes = CUBE_CORNERS.map((d) => shape.point(shape.extreme(d)));
+/** A cube-like layout: the 8 vertices farthest toward the box's corners (among those `keep`
+ * accepts), the cube's edges. */
+function cube(shape, { align = true, keep } = {}) {
+  const nodes = CUBE_CORNERS.map((d) => shape.point(shape.extreme(d, keep)));
   return { nodes, edges: CUBE_EDGES.map((e) => ({ nodes: e, ...(align ? { align: true } : {}) })) };
 }
 
@@ -88,14 +91,63 @@ function mushroomBoundary(shape, dirs) {
   return dirs.map(([x, y]) => shape.nearest([x, y, -1], b));
 }
 
+/**
+ * eight.obj, genus 2: a figure eight lying in the x–z plane with its two holes along y. The
+ * layout runs around the outer rim and both hole rims on the mid-plane y = 0, and splits the
+ * front (y > 0) and back sheets into six faces each; the two faces between the holes carry
+ * the ends of the middle edge as T-vertices. Rim edges get waypoints on the mid-plane.
+ */
+function eight(s) {
+  const rim = ([, y]) => Math.abs(y) < 0.3;
+  const at = (f) => s.nearest(f, [...s.vertices()].filter((i) => rim(s.p(i).map((x, k) => (x - s.center[k]) / s.half[k]))));
+  const h = 0.512; // hole centres at z = ±0.2555 (box fraction)
+  const targets = [
+    [0, 0, 1], [1, 0, h], [1, 0, -h], [0, 0, -1], [-1, 0, -h], [-1, 0, h], // outer rim 0–5
+    [0, 0, 0.733], [0.46, 0, h], [0, 0, 0.29], [-0.46, 0, h], // upper hole 6–9
+    [0, 0, -0.29], [0.46, 0, -h], [0, 0, -0.733], [-0.46, 0, -h], // lower hole 10–13
+  ];
+  const ids = targets.map(at);
+  const nodes = ids.map((v) => s.point(v));
+  const box = (i) => s.p(ids[i]).map((x, k) => (x - s.center[k]) / s.half[k]);
+  /** A waypoint on the rim between nodes a and b: out from the chord's middle (outer rim)
+   * or the chord's middle itself, which lies in the hole (hole rims). */
+  const rimVia = (a, b, outer) => {
+    const m = box(a).map((x, k) => (x + box(b)[k]) / 2);
+    const scale = outer ? 1 / Math.hypot(m[0], m[2]) : 1;
+    return s.point(at([m[0] * scale, 0, m[2] * scale]));
+  };
+  const loops = [[[0, 1, 2, 3, 4, 5], true], [[6, 7, 8, 9], false], [[10, 11, 12, 13], false]];
+  const edges = [];
+  for (const [loop, outer] of loops) {
+    loop.forEach((a, k) => {
+      const b = loop[(k + 1) % loop.length];
+      edges.push({ nodes: [a, b], via: [rimVia(a, b, outer)] });
+    });
+  }
+  const sheet = [[0, 6, [0, 0.87]], [8, 10, [0, 0]], [12, 3, [0, -0.87]], [5, 9, [-0.73, h]], [1, 7, [0.73, h]],
+    [4, 13, [-0.73, -h]], [2, 11, [0.73, -h]]];
+  for (const y of [1, -1]) {
+    for (const [a, b, [x, z]] of sheet) edges.push({ nodes: [a, b], via: [s.point(s.nearest([x, y, z]))] });
+  }
+  // The faces between the holes have six nodes: name their corners (both orientations, one
+  // for the front face and one for the back).
+  const patches = [[5, 9, 13, 4], [4, 13, 9, 5], [1, 7, 11, 2], [2, 11, 7, 1]].map((corners) => ({ corners }));
+  return { nodes, edges, patches };
+}
+
 const RECIPES = {
+  'eight-rims': {
+    mesh: 'eight.obj',
+    make: eight,
+  },
   'fandisk-cube': {
     mesh: 'fandisk.obj',
     make: (s) => cube(s),
   },
   'bunny-cube': {
     mesh: 'bunny_28k.obj',
-    make: (s) => cube(s, { align: false }),
+    // The body's corners: the ears (y up) would take the four upper nodes.
+    make: (s) => cube(s, { align: false, keep: ([, y]) => y < 0.15 }),
   },
   'mushroom-4': {
     mesh: 'mushroom.obj',

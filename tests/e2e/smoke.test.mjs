@@ -1,6 +1,7 @@
-// Smoke test of the page in headless Chromium: it opens with the first sample drawn (checked
-// on the screenshot's pixels), shows a broken file's error without losing the mesh, loads a
-// small STL through the file input, and logs no errors on the way.
+// Smoke test of the page in headless Chromium: it opens with the first sample and its layout
+// drawn (checked on the screenshot's pixels), shows a broken file's error without losing the
+// mesh, loads a small STL through the file input, places a layout file (and names the entry
+// of a broken one), and logs no errors on the way.
 // Screenshots go to test-output/e2e/.
 import assert from 'node:assert/strict';
 import { mkdirSync, readFileSync } from 'node:fs';
@@ -127,9 +128,13 @@ function assertDrawn(m, what) {
   assert.ok(m.range >= 40, `${what}: gray levels span only ${m.range}, no shading? (${m.path})`);
 }
 
-test('the page opens with the fandisk drawn', async (t) => {
+test('the page opens with the fandisk and its sample layout drawn', async (t) => {
   await page.goto(baseUrl);
-  await waitFor((q) => q.state === 'ready' || q.state === 'error');
+  await waitFor((q) => (q.state === 'ready' && q.layout) || q.state === 'error');
+  const layout = await page.evaluate(() => window.quadlay.layout);
+  assert.equal(layout.faces, 6);
+  assert.equal(layout.edges, 12);
+  assert.equal(await page.locator('#layout-summary dd[data-key="faces"]').textContent(), '6');
   assert.equal(await state(), 'ready', await page.evaluate(() => window.quadlay.error));
   const summary = await page.evaluate(() => window.quadlay.summary);
   assert.equal(summary.vertices, 6475);
@@ -183,6 +188,27 @@ test('a small ASCII STL loads through the file input', async () => {
   assert.equal(await page.locator('[role="alert"]').isVisible(), false, 'the old error is still shown');
   const m = await shootAndMeasure('tetra.png');
   assert.ok(m.fraction > 0.05, `tetra: only ${(m.fraction * 100).toFixed(1)} % drawn (${m.path})`);
+});
+
+test('a layout file is placed on the mesh; a broken one names its entry', async (t) => {
+  await page.evaluate(() => window.quadlay.load('samples/mushroom.obj'));
+  await waitFor((q) => q.state === 'ready' && q.summary?.vertices === 2337 && !q.layout);
+  assert.equal(await page.locator('#layout-card').isVisible(), false, 'a new mesh keeps the old layout');
+
+  const bad = { format: 'quad-layout', version: 1, nodes: [{ vertex: 0 }, { vertex: 5 }], edges: [{ nodes: [0, 9] }] };
+  await page.setInputFiles('#layout-input', { name: 'bad.layout.json', mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(bad)) });
+  await waitFor((q) => q.state === 'error');
+  assert.match(await page.locator('[role="alert"]').textContent(), /edges\[0\]: node 9 does not exist/);
+
+  const good = readFileSync(join(root, 'www/layouts/mushroom-t.layout.json'));
+  await page.setInputFiles('#layout-input', { name: 'mushroom-t.layout.json', mimeType: 'application/json', buffer: good });
+  await waitFor((q) => q.state === 'ready' && q.layout?.faces === 7);
+  assert.equal(await page.evaluate(() => window.quadlay.layout.t_vertices), 2);
+  assert.equal(await page.locator('#layout-summary dd[data-key="t_vertices"]').textContent(), '2');
+  assert.equal(await page.locator('[role="alert"]').isVisible(), false);
+  const m = await shootAndMeasure('mushroom-layout.png');
+  t.diagnostic(describe(m));
+  assertDrawn(m, 'mushroom with layout');
 });
 
 test('no page errors, console errors or failed requests', () => {
