@@ -5,9 +5,12 @@
 //! [`io`] → bytes. The same core runs natively (the `quadlay` command) and in the browser
 //! (`wasm`, built for `wasm32-unknown-unknown`).
 
+pub mod clock;
 pub mod io;
 pub mod layout;
 pub mod mesh;
+pub mod param;
+pub mod solve;
 pub mod summary;
 
 #[cfg(target_arch = "wasm32")]

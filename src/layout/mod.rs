@@ -328,7 +328,7 @@ fn sector_face(
 ) -> u32 {
     let Some(node) = node_vertex.iter().position(|&v| v == t[0]) else { return NONE };
     let Some(j) = mesh.outgoing(t[0]).position(|h| mesh.to_vertex(h) == t[1]) else { return NONE };
-    let key = j as f64 + 0.5; // face(h_{j+1}) lies between h_j and h_{j+1}
+    let key = j as f64 - 0.5; // t is face(h_j), which lies between h_{j-1} and h_j
     let ring = &rot.ends[node];
     let next = ring.iter().find(|e| e.key > key).or(ring.first());
     next.map_or(NONE, |e| face_left_of(Directed { curve: e.end.curve, forward: e.end.at_start }))

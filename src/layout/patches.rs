@@ -120,7 +120,9 @@ impl SegmentIndex {
 /// no other curve in between.
 pub fn left_vertices(mesh: &Mesh, index: &SegmentIndex, c: u32, curve: &Curve, forward: bool, out: &mut Vec<u32>) {
     for (k, w) in curve.points.windows(2).enumerate() {
-        let Some(f) = segment_triangle(mesh, &w[0], &w[1]) else { continue };
+        // Along a mesh edge, the triangle on the left of the direction the face runs it.
+        let (p, q) = if forward { (&w[0], &w[1]) } else { (&w[1], &w[0]) };
+        let Some(f) = segment_triangle(mesh, p, q) else { continue };
         let tri = mesh.triangles()[f as usize];
         let [p0, p1, p2] = tri.map(|v| mesh.position(v));
         let normal = cross(sub(p1, p0), sub(p2, p0));

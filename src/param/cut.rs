@@ -1,0 +1,245 @@
+//! The mesh refined along the layout curves, so that every curve runs along mesh edges.
+//!
+//! The paper lets layout edges cross triangles (Fig. 3, 6a) and couples the two sides of
+//! each crossed edge through transitions, with alignment rows on interpolated points (eq.
+//! 11). We insert a vertex at every crossing instead and split the crossed triangles: then
+//! every triangle lies in exactly one face, a crossing point is a vertex whose alignment is
+//! a constraint on that vertex alone, and the three-faces-in-one-triangle case near nodes
+//! (method-notes §1) cannot arise. The split adds only vertices on the curves; each new
+//! triangle is a flat piece of an input triangle, so the surface is unchanged.
+
+use crate::layout::curve::{common_face, position, CurvePoint};
+use crate::layout::SurfaceLayout;
+use crate::mesh::geometry::{cross, dot, norm, sub};
+use crate::mesh::{Mesh, NONE};
+use std::collections::HashMap;
+
+/// The refined mesh and what each of its elements is in the layout.
+#[derive(Debug, Clone)]
+pub struct CutMesh {
+    /// The input's vertices (same indices), then one vertex per curve crossing.
+    pub positions: Vec<[f64; 3]>,
+    pub triangles: Vec<[u32; 3]>,
+    /// The layout face each triangle lies in.
+    pub triangle_face: Vec<u32>,
+    /// The input triangle each triangle is a piece of.
+    pub triangle_origin: Vec<u32>,
+    /// The curve running through each vertex ([`NONE`] for nodes and vertices off curves).
+    pub vertex_curve: Vec<u32>,
+    /// The node at each vertex, or [`NONE`].
+    pub vertex_node: Vec<u32>,
+    /// The face every vertex belongs to ([`NONE`] for nodes and unused vertices): a vertex
+    /// on a curve belongs to the face on the curve's left.
+    pub vertex_face: Vec<u32>,
+    /// Per curve: its vertices in order, from its first node to its last.
+    pub curve_vertices: Vec<Vec<u32>>,
+}
+
+/// The faces on the left and right of every curve ([`NONE`] right of a boundary piece).
+pub fn curve_sides(layout: &SurfaceLayout) -> Vec<[u32; 2]> {
+    let mut sides = vec![[NONE, NONE]; layout.curves.len()];
+    for (fi, f) in layout.faces.iter().enumerate() {
+        for d in &f.pieces {
+            sides[d.curve as usize][if d.forward { 0 } else { 1 }] = fi as u32;
+        }
+    }
+    sides
+}
+
+/// Splits the mesh along the layout's curves.
+pub fn cut_mesh(mesh: &Mesh, layout: &SurfaceLayout) -> CutMesh {
+    let n = mesh.n_vertices();
+    let sides = curve_sides(layout);
+    let mut positions = mesh.positions().to_vec();
+    let mut vertex_curve = vec![NONE; n];
+    let mut vertex_node = vec![NONE; n];
+    for (i, &v) in layout.node_vertex.iter().enumerate() {
+        vertex_node[v as usize] = i as u32;
+    }
+    // Every curve point gets a vertex id; crossings become new vertices.
+    let mut curve_vertices = Vec::with_capacity(layout.curves.len());
+    let mut on_edge: HashMap<u32, Vec<(f64, u32)>> = HashMap::new();
+    for (c, lc) in layout.curves.iter().enumerate() {
+        let ids: Vec<u32> = lc
+            .curve
+            .points
+            .iter()
+            .map(|p| match *p {
+                CurvePoint::Vertex(v) => {
+                    if vertex_node[v as usize] == NONE {
+                        vertex_curve[v as usize] = c as u32;
+                    }
+                    v
+                }
+                CurvePoint::Edge { edge, t } => {
+                    let id = positions.len() as u32;
+                    positions.push(position(mesh, p));
+                    vertex_curve.push(c as u32);
+                    vertex_node.push(NONE);
+                    on_edge.entry(edge).or_default().push((t, id));
+                    id
+                }
+            })
+            .collect();
+        curve_vertices.push(ids);
+    }
+    // Curve segments by their end vertices: (curve, whether the curve runs a → b).
+    let mut segment: HashMap<(u32, u32), (u32, bool)> = HashMap::new();
+    let mut chords_in: HashMap<u32, Vec<(u32, u32)>> = HashMap::new();
+    for (c, lc) in layout.curves.iter().enumerate() {
+        let ids = &curve_vertices[c];
+        for k in 0..ids.len() - 1 {
+            let (a, b) = (ids[k], ids[k + 1]);
+            segment.insert((a, b), (c as u32, true));
+            segment.insert((b, a), (c as u32, false));
+            let (p, q) = (&lc.curve.points[k], &lc.curve.points[k + 1]);
+            let along_edge = matches!((p, q), (CurvePoint::Vertex(_), CurvePoint::Vertex(_)));
+            if !along_edge {
+                if let Some(f) = common_face(mesh, p, q) {
+                    chords_in.entry(f).or_default().push((a, b));
+                }
+            }
+        }
+    }
+
+    let mut out = CutMesh {
+        positions,
+        triangles: Vec::with_capacity(mesh.n_faces() + 4 * chords_in.len()),
+        triangle_face: Vec::new(),
+        triangle_origin: Vec::new(),
+        vertex_curve,
+        vertex_node,
+        vertex_face: Vec::new(),
+        curve_vertices,
+    };
+    let vertex_face: Vec<u32> = (0..out.positions.len())
+        .map(|v| {
+            if v < n {
+                layout.vertex_face[v]
+            } else {
+                sides[out.vertex_curve[v] as usize][0]
+            }
+        })
+        .collect();
+    for f in 0..mesh.n_faces() as u32 {
+        let boundary = triangle_boundary(mesh, f, &on_edge);
+        let chords = chords_in.get(&f).map(Vec::as_slice).unwrap_or(&[]);
+        for piece in split(boundary, chords) {
+            let face = piece_face(&piece, &segment, &sides, &vertex_face, &out.vertex_curve, n)
+                .unwrap_or(layout.triangle_face[f as usize]);
+            for t in triangulate(&piece, &out.positions) {
+                out.triangles.push(t);
+                out.triangle_face.push(face);
+                out.triangle_origin.push(f);
+            }
+        }
+    }
+    out.vertex_face = vertex_face;
+    out
+}
+
+/// The boundary of input triangle `f`, counter-clockwise: its corners with the crossing
+/// vertices on each side in order.
+fn triangle_boundary(mesh: &Mesh, f: u32, on_edge: &HashMap<u32, Vec<(f64, u32)>>) -> Vec<u32> {
+    let mut out = Vec::with_capacity(6);
+    for k in 0..3 {
+        let h = mesh.face_halfedge(f, k);
+        out.push(mesh.from_vertex(h));
+        if let Some(cross) = on_edge.get(&mesh.edge(h)) {
+            // t runs along halfedge 2e; measure it from this side's start.
+            let forward = h % 2 == 0;
+            let mut pts: Vec<(f64, u32)> =
+                cross.iter().map(|&(t, id)| (if forward { t } else { 1.0 - t }, id)).collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            out.extend(pts.into_iter().map(|(_, id)| id));
+        }
+    }
+    out
+}
+
+/// Splits a convex polygon (vertex ids, counter-clockwise) along chords between its
+/// boundary points. Chords do not cross (curves meet only at nodes).
+fn split(boundary: Vec<u32>, chords: &[(u32, u32)]) -> Vec<Vec<u32>> {
+    let mut pieces = vec![boundary];
+    for &(a, b) in chords {
+        let Some(i) = pieces.iter().position(|p| p.contains(&a) && p.contains(&b)) else { continue };
+        let p = pieces.swap_remove(i);
+        let ia = p.iter().position(|&x| x == a).unwrap_or(0);
+        let ib = p.iter().position(|&x| x == b).unwrap_or(0);
+        let walk = |from: usize, to: usize| {
+            let mut v = Vec::new();
+            let mut k = from;
+            loop {
+                v.push(p[k]);
+                if k == to {
+                    break;
+                }
+                k = (k + 1) % p.len();
+            }
+            v
+        };
+        for piece in [walk(ia, ib), walk(ib, ia)] {
+            if piece.len() >= 3 {
+                pieces.push(piece);
+            }
+        }
+    }
+    pieces
+}
+
+/// The face a piece lies in: left or right of a curve segment on its boundary (the piece is
+/// on the left of its counter-clockwise boundary), else the face of a vertex off the curves.
+fn piece_face(
+    piece: &[u32],
+    segment: &HashMap<(u32, u32), (u32, bool)>,
+    sides: &[[u32; 2]],
+    vertex_face: &[u32],
+    vertex_curve: &[u32],
+    n_input: usize,
+) -> Option<u32> {
+    for k in 0..piece.len() {
+        let (a, b) = (piece[k], piece[(k + 1) % piece.len()]);
+        if let Some(&(c, forward)) = segment.get(&(a, b)) {
+            let f = sides[c as usize][if forward { 0 } else { 1 }];
+            if f != NONE {
+                return Some(f);
+            }
+        }
+    }
+    piece
+        .iter()
+        .find(|&&v| (v as usize) < n_input && vertex_curve[v as usize] == NONE && vertex_face[v as usize] != NONE)
+        .map(|&v| vertex_face[v as usize])
+}
+
+/// Triangulates a convex polygon whose sides may hold collinear points, by clipping the ear
+/// with the largest smallest angle first (no zero-area triangles while a proper ear exists).
+fn triangulate(piece: &[u32], positions: &[[f64; 3]]) -> Vec<[u32; 3]> {
+    let mut poly = piece.to_vec();
+    let mut out = Vec::with_capacity(poly.len().saturating_sub(2));
+    let p = |v: u32| positions[v as usize];
+    let min_angle = |a: u32, b: u32, c: u32| {
+        let ang = |x: [f64; 3], y: [f64; 3], z: [f64; 3]| {
+            let (u, w) = (sub(y, x), sub(z, x));
+            norm(cross(u, w)).atan2(dot(u, w))
+        };
+        let (pa, pb, pc) = (p(a), p(b), p(c));
+        ang(pa, pb, pc).min(ang(pb, pc, pa)).min(ang(pc, pa, pb))
+    };
+    while poly.len() > 3 {
+        let m = poly.len();
+        let best = (0..m)
+            .map(|i| (i, min_angle(poly[(i + m - 1) % m], poly[i], poly[(i + 1) % m])))
+            .max_by(|x, y| x.1.total_cmp(&y.1));
+        let Some((i, angle)) = best else { break };
+        if angle <= 0.0 {
+            break; // the rest is collinear: no area left
+        }
+        out.push([poly[(i + m - 1) % m], poly[i], poly[(i + 1) % m]]);
+        poly.remove(i);
+    }
+    if poly.len() == 3 && min_angle(poly[0], poly[1], poly[2]) > 0.0 {
+        out.push([poly[0], poly[1], poly[2]]);
+    }
+    out
+}

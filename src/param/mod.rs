@@ -1,0 +1,325 @@
+//! The quadrangular global parameterization (paper Section 3).
+//!
+//! [`ParamSession`] runs the loop of Section 3.1: all layout edges aligned and unit charts,
+//! an initial solve; then per iteration every chart optimized on its own ([`chart`]),
+//! transitions rebuilt ([`transition`]) and the global system solved again ([`system`]);
+//! finally the user's alignment tags restored and a last solve. The browser runs one
+//! iteration per call; the command line runs them all.
+
+pub mod anderson;
+pub mod chart;
+pub mod cut;
+pub mod system;
+pub mod transition;
+
+use crate::layout::{ChartType, SurfaceLayout};
+use crate::mesh::{Mesh, NONE};
+use chart::{optimize, rest_frame, Chart, ChartKind, ChartTriangle, OptimizeOptions};
+use cut::{curve_sides, cut_mesh, CutMesh};
+use crate::clock::now;
+use std::collections::HashMap;
+use system::{NodePositions, Solution, System};
+pub use system::ParamError;
+use transition::Affine;
+
+/// Settings of a parameterization run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct ParamOptions {
+    /// Chart-optimization iterations (paper Section 3.1). Default 3.
+    pub iterations: usize,
+    /// Honour the layout's alignment tags in the final solve. Default true.
+    pub align: bool,
+    /// Accelerate the chart-optimization loop (Anderson mixing, see [`anderson`]); false
+    /// runs the paper's plain loop. Default true.
+    pub accelerate: bool,
+}
+
+impl Default for ParamOptions {
+    fn default() -> Self {
+        ParamOptions { iterations: 3, align: true, accelerate: true }
+    }
+}
+
+/// Distortion of one solve, over the triangles of the refined mesh.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Distortion {
+    /// Area-weighted mean of ‖JᵀJ − I‖²_F (eq. 7).
+    pub mean: f64,
+    pub max: f64,
+    /// Triangles whose chart image has non-positive area.
+    pub flipped: usize,
+}
+
+/// One entry of the iteration history: 0 is the initial parameterization (unit charts).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct IterationStats {
+    pub iteration: usize,
+    pub distortion: Distortion,
+    pub seconds: f64,
+}
+
+/// A face's nodes and how their chart positions follow from the chart's corners.
+#[derive(Debug, Clone)]
+struct FaceDomain {
+    kind: ChartKind,
+    /// (node, side s, τ): the node sits at c_s + τ (c_{s+1} − c_s); corners have τ = 0.
+    nodes: Vec<(u32, usize, f64)>,
+}
+
+/// The state of a parameterization: refined mesh, charts, factorizations, history.
+pub struct ParamSession {
+    cut: CutMesh,
+    sides: Vec<[u32; 2]>,
+    domains: Vec<FaceDomain>,
+    charts: Vec<Chart>,
+    /// Rest shape and area of every refined triangle (for distortion and eq. 10).
+    rest: Vec<([[f64; 2]; 2], f64)>,
+    all_aligned: System,
+    user_aligned: System,
+    history: Vec<IterationStats>,
+    last: Solution,
+    final_solution: Option<(Solution, Distortion)>,
+    anderson: anderson::Anderson,
+    accelerate: bool,
+}
+
+fn chart_kind(c: ChartType) -> ChartKind {
+    match c {
+        ChartType::Quad => ChartKind::Quad,
+        ChartType::Rect => ChartKind::Rect,
+        ChartType::Unit => ChartKind::Unit,
+    }
+}
+
+impl ParamSession {
+    /// Refines the mesh along the layout, makes unit charts and solves the initial
+    /// parameterization with every layout edge aligned (iteration 0).
+    ///
+    /// # Errors
+    /// [`ParamError`] if the system cannot be solved or the mesh is too coarse.
+    pub fn new(mesh: &Mesh, layout: &SurfaceLayout, options: &ParamOptions) -> Result<ParamSession, ParamError> {
+        let t0 = now();
+        let cut = cut_mesh(mesh, layout);
+        let sides = curve_sides(layout);
+        let curve_len: Vec<f64> = layout.curves.iter().map(|c| c.curve.length).collect();
+        let mut domains = Vec::with_capacity(layout.faces.len());
+        let mut side_lengths = Vec::new();
+        for f in &layout.faces {
+            let mut nodes = Vec::with_capacity(f.nodes.len());
+            for s in 0..4 {
+                let pieces = f.side(s);
+                let total: f64 = pieces.iter().map(|d| curve_len[d.curve as usize]).sum();
+                side_lengths.push(total);
+                let mut along = 0.0;
+                for (k, d) in pieces.iter().enumerate() {
+                    nodes.push((f.nodes[f.corners[s] + k], s, if total > 0.0 { along / total } else { 0.0 }));
+                    along += curve_len[d.curve as usize];
+                }
+            }
+            domains.push(FaceDomain { kind: chart_kind(f.chart), nodes });
+        }
+        // One common side for unit charts, so chart types compare by shape, not by units.
+        let side = side_lengths.iter().sum::<f64>() / side_lengths.len().max(1) as f64;
+        let charts = domains.iter().map(|_| Chart::unit(side)).collect();
+        let rest = cut
+            .triangles
+            .iter()
+            .map(|t| {
+                let p = t.map(|v| cut.positions[v as usize]);
+                rest_frame(p[0], p[1], p[2])
+            })
+            .collect();
+        let every = vec![true; layout.curves.len()];
+        // Boundary pieces are always aligned (their `align` is set); `--no-align` drops the
+        // user's tags only.
+        let tags: Vec<bool> = layout
+            .curves
+            .iter()
+            .zip(&sides)
+            .map(|(c, s)| if options.align { c.align } else { s[1] == NONE })
+            .collect();
+        let all_aligned = System::new(&cut, &every);
+        let user_aligned = System::new(&cut, &tags);
+        let mut session = ParamSession {
+            cut,
+            sides,
+            domains,
+            charts,
+            rest,
+            all_aligned,
+            user_aligned,
+            history: Vec::new(),
+            last: Solution { corner_uv: Vec::new() },
+            final_solution: None,
+            anderson: anderson::Anderson::new(5),
+            accelerate: options.accelerate,
+        };
+        let sol = session.solve(true)?;
+        let distortion = session.distortion(&sol);
+        session.last = sol;
+        session.history.push(IterationStats { iteration: 0, distortion, seconds: now() - t0 });
+        Ok(session)
+    }
+
+    /// Node positions in every chart, and the transitions across every curve.
+    fn frames(&self) -> (NodePositions, Vec<Affine>) {
+        let nodes: NodePositions = self
+            .domains
+            .iter()
+            .zip(&self.charts)
+            .map(|(d, chart)| {
+                let c = chart.corners();
+                d.nodes
+                    .iter()
+                    .map(|&(n, s, tau)| {
+                        let (a, b) = (c[s], c[(s + 1) % 4]);
+                        (n, [a[0] + tau * (b[0] - a[0]), a[1] + tau * (b[1] - a[1])])
+                    })
+                    .collect::<HashMap<u32, [f64; 2]>>()
+            })
+            .collect();
+        let transitions = self
+            .cut
+            .curve_vertices
+            .iter()
+            .zip(&self.sides)
+            .map(|(verts, &[l, r])| {
+                if r == NONE {
+                    return Affine::IDENTITY;
+                }
+                let [p, q] = [verts[0], verts[verts.len() - 1]].map(|v| self.cut.vertex_node[v as usize]);
+                let at = |f: u32, n: u32| nodes[f as usize].get(&n).copied().unwrap_or([0.0, 0.0]);
+                Affine::transition(at(l, p), at(l, q), at(r, p), at(r, q))
+            })
+            .collect();
+        (nodes, transitions)
+    }
+
+    fn solve(&mut self, all: bool) -> Result<Solution, ParamError> {
+        let (nodes, transitions) = self.frames();
+        let system = if all { &mut self.all_aligned } else { &mut self.user_aligned };
+        system.solve(&self.cut, &nodes, &self.sides, &transitions)
+    }
+
+    fn distortion(&self, sol: &Solution) -> Distortion {
+        let (mut sum, mut area_sum, mut max, mut flipped) = (0.0, 0.0, 0.0f64, 0);
+        for (uv, &(rest, area)) in sol.corner_uv.iter().zip(&self.rest) {
+            let signed = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[1][1] - uv[0][1]) * (uv[2][0] - uv[0][0]);
+            if signed <= 0.0 {
+                flipped += 1;
+            }
+            if area > 0.0 {
+                let d = chart::distortion(*uv, rest);
+                sum += area * d;
+                area_sum += area;
+                max = max.max(d);
+            }
+        }
+        Distortion { mean: if area_sum > 0.0 { sum / area_sum } else { 0.0 }, max, flipped }
+    }
+
+    /// One iteration of Section 3.1: optimize every chart, rebuild the transitions, solve
+    /// again with all edges aligned.
+    ///
+    /// # Errors
+    /// [`ParamError`] from the solve.
+    pub fn step(&mut self) -> Result<IterationStats, ParamError> {
+        let t0 = now();
+        let mut tris: Vec<Vec<ChartTriangle>> = vec![Vec::new(); self.charts.len()];
+        for (t, uv) in self.last.corner_uv.iter().enumerate() {
+            let f = self.cut.triangle_face[t] as usize;
+            let chart = &self.charts[f];
+            let st = uv.map(|u| chart.bilinear_coords(u));
+            let (rest, area) = self.rest[t];
+            tris[f].push(ChartTriangle { st, rest, area });
+        }
+        let fitted: Vec<Chart> = self
+            .charts
+            .iter()
+            .enumerate()
+            .map(|(f, chart)| {
+                let kind = self.domains[f].kind;
+                if kind == ChartKind::Unit {
+                    return *chart;
+                }
+                optimize(&chart.with_kind(kind), &tris[f], &OptimizeOptions::default()).0
+            })
+            .collect();
+        // The paper's step is `fitted`; Anderson mixing accelerates it (see `anderson`).
+        let kinds: Vec<ChartKind> = self.domains.iter().map(|d| d.kind).collect();
+        let flat = |charts: &[Chart]| -> Vec<f64> {
+            charts.iter().zip(&kinds).flat_map(|(c, &k)| c.with_kind(k).free_vars()).collect()
+        };
+        let mixed = if self.accelerate {
+            self.anderson.next(&flat(&self.charts), &flat(&fitted))
+        } else {
+            flat(&fitted)
+        };
+        let mut at = 0;
+        let accelerated: Vec<Chart> = fitted
+            .iter()
+            .zip(&kinds)
+            .map(|(fit, &k)| {
+                if k == ChartKind::Unit {
+                    return *fit;
+                }
+                let c = fit.with_kind(k).with_free_vars(&mixed[at..at + k.dofs()]);
+                at += k.dofs();
+                c
+            })
+            .collect();
+        // Anderson steps need not lower the distortion every time; only a blow-up (or an
+        // invalid chart) sends us back to the plain step.
+        let previous = self.history.last().map_or(f64::INFINITY, |h| h.distortion.mean);
+        self.charts = accelerated;
+        let valid = self.charts.iter().all(|c| c.is_convex() && c.x[0] > 0.0);
+        let mut result = if valid { self.solve(true).ok() } else { None };
+        if let Some(sol) = &result {
+            if self.distortion(sol).mean > 100.0 * previous {
+                result = None;
+            }
+        }
+        if result.is_none() {
+            // Fall back to the paper's plain step.
+            self.anderson.reset();
+            self.charts = fitted;
+        }
+        let sol = match result {
+            Some(sol) => sol,
+            None => self.solve(true)?,
+        };
+        let distortion = self.distortion(&sol);
+        self.last = sol;
+        let stats = IterationStats { iteration: self.history.len(), distortion, seconds: now() - t0 };
+        self.history.push(stats);
+        self.final_solution = None;
+        Ok(stats)
+    }
+
+    /// The final solve with the user's alignment tags (paper 3.1, step 4).
+    ///
+    /// # Errors
+    /// [`ParamError`] from the solve.
+    pub fn finish(&mut self) -> Result<Distortion, ParamError> {
+        let sol = self.solve(false)?;
+        let d = self.distortion(&sol);
+        self.final_solution = Some((sol, d));
+        Ok(d)
+    }
+
+    pub fn history(&self) -> &[IterationStats] {
+        &self.history
+    }
+    pub fn charts(&self) -> &[Chart] {
+        &self.charts
+    }
+    pub fn cut(&self) -> &CutMesh {
+        &self.cut
+    }
+    /// The latest solution: the final one after [`finish`](Self::finish), else the latest
+    /// iteration's.
+    pub fn solution(&self) -> &Solution {
+        self.final_solution.as_ref().map_or(&self.last, |(s, _)| s)
+    }
+}

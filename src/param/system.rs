@@ -1,0 +1,283 @@
+//! The global parameterization system (paper eq. 1–3, 11–12), in its symmetric form.
+//!
+//! Eq. 3 asks every free vertex to be the cotangent-weighted mean of its neighbours, each
+//! brought into the vertex's chart by a transition. As written that matrix is not symmetric
+//! (method-notes §4). We minimize instead the Dirichlet energy Σ_t ∫_t |∇u|², each triangle
+//! evaluated in the chart of the face it lies in, its vertices from other charts brought in by
+//! their transitions. Its minimizer satisfies eq. 3 wherever the transitions are rigid (then
+//! both are the same harmonic map); where a transition scales, the energy stays a sum of
+//! per-triangle convex terms, so the matrix is symmetric positive definite once the nodes are
+//! fixed, and a sparse Cholesky factorization solves it (faer; `crate::solve`).
+//!
+//! Alignment (eq. 11): on the refined mesh (`cut`) every point of an aligned curve is a
+//! vertex, so "lies on the straight chart side" is a constraint on one vertex. We eliminate it
+//! exactly: such a vertex has one unknown `s`, its position `p + s (q − p)` on the side from
+//! node p to node q. This replaces the mixed least-squares system of eq. 12 by an equivalent
+//! smaller SPD system: the constraint holds exactly and the energy is minimal among all maps
+//! that satisfy it — which is what eq. 12 computes, with the relaxed harmonic rows being
+//! the vertices' energy gradients.
+
+use super::cut::CutMesh;
+use super::transition::Affine;
+use crate::mesh::geometry::{cross, dot, norm, sub};
+use crate::mesh::NONE;
+use crate::solve::{SolveError, SpdSolver};
+use std::collections::HashMap;
+use std::fmt;
+
+/// The unknowns of one vertex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Var {
+    /// Known: a node, or a vertex no triangle uses.
+    Fixed,
+    /// Free in its face's chart: unknowns `index`, `index + 1`.
+    Free(u32),
+    /// On an aligned curve: one unknown, the position along the chart side.
+    OnSide(u32),
+}
+
+/// Positions of the nodes in each face's chart (corners and T-vertices).
+pub type NodePositions = Vec<HashMap<u32, [f64; 2]>>;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum ParamError {
+    Solve(SolveError),
+    /// A triangle touches a node that is not on its face (only on meshes too coarse for
+    /// the layout).
+    NodeNotOnFace { node: u32, face: u32 },
+    /// A triangle has a vertex from a face that is not its neighbour across a curve.
+    NotNeighbours { vertex: u32, face: u32 },
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ParamError::Solve(e) => write!(f, "the global system could not be solved: {e}"),
+            ParamError::NodeNotOnFace { node, face } => {
+                write!(f, "a triangle of face {face} touches node {node}, which is not on that face; the mesh is too coarse there")
+            }
+            ParamError::NotNeighbours { vertex, face } => {
+                write!(f, "a triangle of face {face} reaches vertex {vertex} of a face that is not its neighbour; the mesh is too coarse there")
+            }
+        }
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+impl From<SolveError> for ParamError {
+    fn from(e: SolveError) -> Self {
+        ParamError::Solve(e)
+    }
+}
+
+/// A vertex's chart position as a linear function of the unknowns: `u = m z[vars] + b`.
+#[derive(Debug, Clone, Copy)]
+struct Expr {
+    var: Var,
+    /// 2×2 (Free) or 2×1 in column 0 (OnSide).
+    m: [[f64; 2]; 2],
+    b: [f64; 2],
+}
+
+impl Expr {
+    fn dims(&self) -> usize {
+        match self.var {
+            Var::Fixed => 0,
+            Var::Free(_) => 2,
+            Var::OnSide(_) => 1,
+        }
+    }
+    fn index(&self) -> u32 {
+        match self.var {
+            Var::Free(i) | Var::OnSide(i) => i,
+            Var::Fixed => NONE,
+        }
+    }
+    fn transformed(&self, a: &Affine) -> Expr {
+        let l = &a.m;
+        let m = std::array::from_fn(|r| std::array::from_fn(|c| l[r][0] * self.m[0][c] + l[r][1] * self.m[1][c]));
+        Expr { var: self.var, m, b: a.apply(self.b) }
+    }
+    fn eval(&self, z: &[f64]) -> [f64; 2] {
+        let zi = |k: usize| z[self.index() as usize + k];
+        match self.var {
+            Var::Fixed => self.b,
+            Var::Free(_) => std::array::from_fn(|r| self.m[r][0] * zi(0) + self.m[r][1] * zi(1) + self.b[r]),
+            Var::OnSide(_) => std::array::from_fn(|r| self.m[r][0] * zi(0) + self.b[r]),
+        }
+    }
+}
+
+/// Half the cotangent of each triangle corner: the Dirichlet energy of a linear map on a
+/// triangle is Σ_k w_k |u_{k+1} − u_{k+2}|² with w_k = cot θ_k / 2 (eq. 2's weights).
+pub fn cotangent_halves(cut: &CutMesh) -> Vec<[f64; 3]> {
+    cut.triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|v| cut.positions[v as usize]);
+            std::array::from_fn(|k| {
+                let (u, w) = (sub(p[(k + 1) % 3], p[k]), sub(p[(k + 2) % 3], p[k]));
+                0.5 * dot(u, w) / norm(cross(u, w)).max(f64::MIN_POSITIVE)
+            })
+        })
+        .collect()
+}
+
+/// The system for one set of aligned curves: its unknowns and a factorization whose
+/// symbolic part is kept across solves (only the charts, hence the values, change).
+pub struct System {
+    vars: Vec<Var>,
+    n_unknowns: usize,
+    weights: Vec<[f64; 3]>,
+    solver: Option<SpdSolver>,
+    /// Lower-triangle entries in assembly order (fixed by the unknowns and the triangles).
+    entries: Vec<(u32, u32)>,
+}
+
+/// Per-triangle chart coordinates of a solve, and per-vertex coordinates in their own chart.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// `corner_uv[t][k]`: vertex k of triangle t in the chart of the triangle's face.
+    pub corner_uv: Vec<[[f64; 2]; 3]>,
+}
+
+impl System {
+    /// Unknowns for the refined mesh with `aligned[c]` telling which curves are aligned.
+    pub fn new(cut: &CutMesh, aligned: &[bool]) -> System {
+        let mut used = vec![false; cut.positions.len()];
+        for t in &cut.triangles {
+            for &v in t {
+                used[v as usize] = true;
+            }
+        }
+        let mut n = 0u32;
+        let vars = (0..cut.positions.len())
+            .map(|v| {
+                if cut.vertex_node[v] != NONE || !used[v] || cut.vertex_face[v] == NONE {
+                    return Var::Fixed;
+                }
+                let c = cut.vertex_curve[v];
+                if c != NONE && aligned[c as usize] {
+                    n += 1;
+                    Var::OnSide(n - 1)
+                } else {
+                    n += 2;
+                    Var::Free(n - 2)
+                }
+            })
+            .collect();
+        System { vars, n_unknowns: n as usize, weights: cotangent_halves(cut), solver: None, entries: Vec::new() }
+    }
+
+    pub fn n_unknowns(&self) -> usize {
+        self.n_unknowns
+    }
+
+    /// The chart position of vertex `v` of a triangle in face `face`, as an expression.
+    fn expr(
+        &self,
+        cut: &CutMesh,
+        v: u32,
+        face: u32,
+        nodes: &NodePositions,
+        sides: &[[u32; 2]],
+        transitions: &[Affine],
+    ) -> Result<Expr, ParamError> {
+        let vi = v as usize;
+        let node = cut.vertex_node[vi];
+        if node != NONE {
+            let p = nodes[face as usize].get(&node).ok_or(ParamError::NodeNotOnFace { node, face })?;
+            return Ok(Expr { var: Var::Fixed, m: [[0.0; 2]; 2], b: *p });
+        }
+        let own = cut.vertex_face[vi];
+        let var = self.vars[vi];
+        let base = match var {
+            Var::OnSide(_) => {
+                let c = cut.vertex_curve[vi] as usize;
+                let ends = [cut.curve_vertices[c][0], *cut.curve_vertices[c].last().unwrap_or(&v)];
+                let [p, q] = ends.map(|e| nodes[own as usize].get(&cut.vertex_node[e as usize]).copied());
+                let (Some(p), Some(q)) = (p, q) else {
+                    return Err(ParamError::NodeNotOnFace { node: cut.vertex_node[ends[0] as usize], face: own });
+                };
+                Expr { var, m: [[q[0] - p[0], 0.0], [q[1] - p[1], 0.0]], b: p }
+            }
+            _ => Expr { var, m: [[1.0, 0.0], [0.0, 1.0]], b: [0.0, 0.0] },
+        };
+        if own == face {
+            return Ok(base);
+        }
+        let c = cut.vertex_curve[vi];
+        if c != NONE && sides[c as usize] == [own, face] {
+            return Ok(base.transformed(&transitions[c as usize]));
+        }
+        Err(ParamError::NotNeighbours { vertex: v, face })
+    }
+
+    /// Assembles and solves the system for the given node positions and transitions
+    /// (`transitions[c]` maps the chart left of curve c to the chart on its right).
+    ///
+    /// # Errors
+    /// [`ParamError`]: a failed factorization, or a mesh too coarse for the layout.
+    pub fn solve(
+        &mut self,
+        cut: &CutMesh,
+        nodes: &NodePositions,
+        sides: &[[u32; 2]],
+        transitions: &[Affine],
+    ) -> Result<Solution, ParamError> {
+        let mut exprs = Vec::with_capacity(cut.triangles.len());
+        for (t, tri) in cut.triangles.iter().enumerate() {
+            let face = cut.triangle_face[t];
+            let e: Result<Vec<Expr>, ParamError> =
+                tri.iter().map(|&v| self.expr(cut, v, face, nodes, sides, transitions)).collect();
+            let e = e?;
+            exprs.push([e[0], e[1], e[2]]);
+        }
+        let record_pattern = self.solver.is_none();
+        let mut entries: Vec<(u32, u32)> = Vec::new();
+        let mut values: Vec<f64> = Vec::with_capacity(self.entries.len());
+        let mut rhs = vec![0.0; self.n_unknowns];
+        for (t, ex) in exprs.iter().enumerate() {
+            for k in 0..3 {
+                // Edge between corners a and b, opposite corner k.
+                let (a, b) = (&ex[(k + 1) % 3], &ex[(k + 2) % 3]);
+                let w = self.weights[t][k];
+                let d = [a.b[0] - b.b[0], a.b[1] - b.b[1]];
+                // Term w |M_a z_a − M_b z_b + d|²: gradient rows M_aᵀ(...) and −M_bᵀ(...).
+                for (x, sx) in [(a, 1.0), (b, -1.0)] {
+                    for i in 0..x.dims() {
+                        let row = x.index() + i as u32;
+                        let mt_d = x.m[0][i] * d[0] + x.m[1][i] * d[1];
+                        rhs[row as usize] -= sx * w * mt_d;
+                        for (y, sy) in [(a, 1.0), (b, -1.0)] {
+                            for j in 0..y.dims() {
+                                let col = y.index() + j as u32;
+                                if col > row {
+                                    continue;
+                                }
+                                let v = sx * sy * w * (x.m[0][i] * y.m[0][j] + x.m[1][i] * y.m[1][j]);
+                                if record_pattern {
+                                    entries.push((row, col));
+                                }
+                                values.push(v);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        if record_pattern && self.n_unknowns > 0 {
+            self.solver = Some(SpdSolver::new(self.n_unknowns, &entries)?);
+            self.entries = entries;
+        }
+        let mut z = rhs;
+        if self.n_unknowns > 0 {
+            let solver = self.solver.as_mut().ok_or(ParamError::Solve(SolveError::NotPositiveDefinite))?;
+            solver.factor(&values)?;
+            solver.solve_in_place(&mut z)?;
+        }
+        let corner_uv = exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect();
+        Ok(Solution { corner_uv })
+    }
+}

@@ -1,0 +1,162 @@
+//! Known answers of the parameterization (paper Section 3, Fig. 8): flat and developable
+//! surfaces whose faces are quadrilaterals come out isometric with 5-DOF charts, and not with
+//! rectangles or unit squares. The distortion after each iteration is printed
+//! (`cargo test --test param_known_answers -- --nocapture`).
+
+use quadlay::layout::{build_layout, parse_layout};
+use quadlay::mesh::{build_mesh, Mesh, TriangleSoup};
+use quadlay::param::{ParamOptions, ParamSession};
+
+/// A planar grid over the quadrilateral `q` (bilinear image of an n×n grid).
+fn planar_quad(q: [[f64; 2]; 4], n: u32) -> Mesh {
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
+            let w = [(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t];
+            let x = (0..4).map(|k| w[k] * q[k][0]).sum();
+            let y = (0..4).map(|k| w[k] * q[k][1]).sum();
+            positions.push([x, y, 0.0]);
+        }
+    }
+    let id = |i: u32, j: u32| j * (n + 1) + i;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if (i + j) % 2 == 0 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+        }
+    }
+    build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh
+}
+
+/// The surface of the parallelepiped spanned by unit vectors `a, b, c`, each face an n×n grid.
+fn parallelepiped(a: [f64; 3], b: [f64; 3], c: [f64; 3], n: u32) -> Mesh {
+    use std::collections::HashMap;
+    let mut index: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let mut vertex = |g: [u32; 3]| {
+        *index.entry(g).or_insert_with(|| {
+            let f = g.map(|x| x as f64 / n as f64);
+            positions.push(std::array::from_fn(|k| f[0] * a[k] + f[1] * b[k] + f[2] * c[k]));
+            (positions.len() - 1) as u32
+        })
+    };
+    let mut triangles = Vec::new();
+    // Each face: fixed axis `ax` at 0 or n, grid over the other two (u, v) with u × v outward.
+    for ax in 0..3 {
+        for high in [false, true] {
+            let (mut u, mut v) = ((ax + 1) % 3, (ax + 2) % 3);
+            if !high {
+                std::mem::swap(&mut u, &mut v);
+            }
+            for j in 0..n {
+                for i in 0..n {
+                    let g = |di: u32, dj: u32| {
+                        let mut p = [0u32; 3];
+                        p[ax] = if high { n } else { 0 };
+                        p[u] = i + di;
+                        p[v] = j + dj;
+                        p
+                    };
+                    let q = [g(0, 0), g(1, 0), g(1, 1), g(0, 1)].map(&mut vertex);
+                    triangles.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+                }
+            }
+        }
+    }
+    build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh
+}
+
+fn layout_json(nodes: &[u32], edges: &[[u32; 2]], chart: &str) -> String {
+    let nodes: Vec<String> = nodes.iter().map(|v| format!("{{\"vertex\":{v}}}")).collect();
+    let edges: Vec<String> = edges.iter().map(|e| format!("{{\"nodes\":[{},{}]}}", e[0], e[1])).collect();
+    format!(
+        "{{\"format\":\"quad-layout\",\"version\":1,\"nodes\":[{}],\"edges\":[{}],\"defaults\":{{\"chart\":\"{chart}\"}}}}",
+        nodes.join(","),
+        edges.join(",")
+    )
+}
+
+/// Runs `iterations` chart optimizations; returns the mean distortion per iteration and the
+/// final solve's (mean, flipped).
+fn run(mesh: &Mesh, layout: &str, iterations: usize) -> (Vec<f64>, f64, usize) {
+    let layout = build_layout(mesh, &parse_layout(layout).unwrap()).unwrap();
+    let mut s = ParamSession::new(mesh, &layout, &ParamOptions::default()).unwrap();
+    for _ in 0..iterations {
+        s.step().unwrap();
+    }
+    let d = s.finish().unwrap();
+    (s.history().iter().map(|h| h.distortion.mean).collect(), d.mean, d.flipped)
+}
+
+fn sci(v: &[f64]) -> String {
+    v.iter().map(|x| format!("{x:.2e}")).collect::<Vec<_>>().join(" ")
+}
+
+const Q: [[f64; 2]; 4] = [[0.0, 0.0], [2.0, 0.0], [2.4, 1.3], [0.3, 1.1]];
+
+#[test]
+fn a_planar_quadrilateral_becomes_an_isometry_with_quad_charts_only() {
+    let n = 16;
+    let mesh = planar_quad(Q, n);
+    let corners = [0, n, (n + 1) * (n + 1) - 1, n * (n + 1)];
+    let (quad, final_quad, flips) = run(&mesh, &layout_json(&corners, &[], "quad"), 30);
+    println!("quad chart, mean distortion per iteration: {}", sci(&quad));
+    assert_eq!(flips, 0);
+    assert!(final_quad < 1e-9, "quad chart: final distortion {final_quad:e}");
+    assert!(quad[0] > 1e-2, "the unit chart should be far from isometric: {}", quad[0]);
+    let (rect, final_rect, _) = run(&mesh, &layout_json(&corners, &[], "rect"), 12);
+    println!("rect chart, mean distortion per iteration: {}", sci(&rect));
+    assert!(final_rect > 1e3 * final_quad.max(1e-12), "rect should stay distorted: {final_rect:e}");
+    let (_, final_unit, _) = run(&mesh, &layout_json(&corners, &[], "unit"), 3);
+    println!("unit chart: {final_unit:.3e}");
+    assert!(final_unit > final_rect, "unit {final_unit:e} vs rect {final_rect:e}");
+}
+
+#[test]
+fn a_planar_quadrilateral_cut_into_2x2_faces_by_curves_across_triangles() {
+    // Odd n: the curves between side midpoints run across triangles, not along edges.
+    let n = 17;
+    let mesh = planar_quad(Q, n - 1);
+    let m = n - 1;
+    let id = |i: u32, j: u32| j * (m + 1) + i;
+    let h = m / 2;
+    // Midpoint nodes one vertex off the middle, so the inner curves are not grid lines.
+    let nodes = [id(0, 0), id(m, 0), id(m, m), id(0, m), id(h + 1, 0), id(m, h - 1), id(h - 1, m), id(0, h + 1), id(h, h)];
+    let edges = [[8, 4], [8, 5], [8, 6], [8, 7]];
+    let (quad, final_quad, flips) = run(&mesh, &layout_json(&nodes, &edges, "quad"), 30);
+    println!("2x2 quad charts, mean distortion per iteration: {}", sci(&quad));
+    assert_eq!(flips, 0);
+    assert!(final_quad < 1e-9, "final distortion {final_quad:e}");
+    let (rect, final_rect, _) = run(&mesh, &layout_json(&nodes, &edges, "rect"), 15);
+    println!("2x2 rect charts: {}", sci(&rect));
+    assert!(final_rect > 1e-4, "rect charts should not be isometric here: {final_rect:e}");
+}
+
+#[test]
+fn the_sheared_cube_is_isometric_with_quad_charts_and_not_with_rectangles() {
+    // Paper Fig. 8: a parallelepiped with unit edges, its 12 edges as the layout.
+    let a = [1.0, 0.0, 0.0];
+    let b = [0.5, 0.75f64.sqrt(), 0.0];
+    let c = [0.3, 0.2, (1.0f64 - 0.09 - 0.04).sqrt()];
+    let n = 8;
+    let mesh = parallelepiped(a, b, c, n);
+    let corner = |i: u32, j: u32, k: u32| {
+        let p: [f64; 3] = std::array::from_fn(|x| (i as f64) * a[x] + (j as f64) * b[x] + (k as f64) * c[x]);
+        mesh.positions().iter().position(|q| (0..3).all(|x| (q[x] - p[x]).abs() < 1e-12)).unwrap() as u32
+    };
+    let nodes = [corner(0, 0, 0), corner(1, 0, 0), corner(1, 1, 0), corner(0, 1, 0), corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)];
+    let edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]];
+    let (quad, final_quad, flips) = run(&mesh, &layout_json(&nodes, &edges, "quad"), 20);
+    println!("sheared cube, quad charts: {}", sci(&quad));
+    assert_eq!(flips, 0);
+    assert!(final_quad < 1e-9, "quad charts: {final_quad:e}");
+    let (rect, final_rect, _) = run(&mesh, &layout_json(&nodes, &edges, "rect"), 10);
+    println!("sheared cube, rect charts: {}", sci(&rect));
+    assert!(final_rect > 1e-3, "rect charts: {final_rect:e}");
+}
