@@ -1,7 +1,9 @@
 //! Native benchmark behind `npm run bench` (scripts/bench.mjs runs it and writes the file).
 //! For each mesh given: the median time of reading the bytes into a validated halfedge mesh
 //! (parse + connectivity), of the topology pass, and of the cotangent weights; for an
-//! argument `MESH@LAYOUT`, also of placing the layout (tracing its curves, faces, patches).
+//! argument `MESH@LAYOUT`, also of placing the layout (tracing its curves, faces, patches)
+//! and of parameterizing with it (initial solve, 3 chart-optimization iterations, final
+//! solve; once, with each stage's time).
 //! Prints one JSON object per mesh.
 
 use quadlay::io::read_mesh;
@@ -20,6 +22,28 @@ fn median_ms(mut f: impl FnMut()) -> f64 {
     }
     times.sort_by(f64::total_cmp);
     times[times.len() / 2]
+}
+
+/// Times of the parameterization's stages, as JSON fields.
+fn param_stages(mesh: &quadlay::mesh::Mesh, layout: &quadlay::layout::SurfaceLayout) -> String {
+    use quadlay::param::{ParamOptions, ParamSession};
+    let t = Instant::now();
+    let Ok(mut s) = ParamSession::new(mesh, layout, &ParamOptions::default()) else { return String::new() };
+    let initial = t.elapsed().as_secs_f64() * 1e3;
+    let t = Instant::now();
+    for _ in 0..3 {
+        if s.step().is_err() {
+            return String::new();
+        }
+    }
+    let iterations = t.elapsed().as_secs_f64() * 1e3;
+    let t = Instant::now();
+    let fin = s.finish().map(|d| d.mean).unwrap_or(f64::NAN);
+    let final_ms = t.elapsed().as_secs_f64() * 1e3;
+    format!(
+        ",\"param_initial_ms\":{initial:.1},\"param_3_iterations_ms\":{iterations:.1},\"param_final_ms\":{final_ms:.1},\"param_total_ms\":{:.1},\"distortion\":{fin:.4}",
+        initial + iterations + final_ms
+    )
 }
 
 fn main() {
@@ -51,6 +75,7 @@ fn main() {
         let cot = median_ms(|| {
             std::hint::black_box(geometry::cotangent_weights(&mesh));
         });
+        let mut param_json = String::new();
         let layout_ms = layout_path.map(|lp| {
             let text = std::fs::read_to_string(&lp).unwrap_or_default();
             let layout = match parse_layout(&text) {
@@ -64,12 +89,16 @@ fn main() {
                 eprintln!("error: {lp}: {e}");
                 std::process::exit(2);
             }
-            median_ms(|| {
+            let ms = median_ms(|| {
                 std::hint::black_box(build_layout(&mesh, &layout).ok());
-            })
+            });
+            if let Ok(surface) = build_layout(&mesh, &layout) {
+                param_json = param_stages(&mesh, &surface);
+            }
+            ms
         });
         let name = path.rsplit('/').next().unwrap_or(&path);
-        let layout_json = layout_ms.map_or(String::new(), |ms| format!(",\"layout_ms\":{ms:.3}"));
+        let layout_json = layout_ms.map_or(String::new(), |ms| format!(",\"layout_ms\":{ms:.3}{param_json}"));
         println!(
             "{{\"mesh\":\"{name}\",\"vertices\":{},\"triangles\":{},\"load_ms\":{load:.3},\"topology_ms\":{topo:.3},\"cotangent_weights_ms\":{cot:.3}{layout_json}}}",
             mesh.n_vertices(),

@@ -4,6 +4,7 @@
 
 use crate::io::{read_mesh, LoadedMesh};
 use crate::layout::{build_layout, curve, parse_layout, SurfaceLayout};
+use crate::param::{ParamOptions, ParamSession};
 use crate::summary::{LayoutSummary, MeshSummary};
 use serde::Serialize;
 use wasm_bindgen::prelude::*;
@@ -12,6 +13,7 @@ use wasm_bindgen::prelude::*;
 pub struct Session {
     loaded: LoadedMesh,
     layout: Option<SurfaceLayout>,
+    param: Option<ParamSession>,
 }
 
 /// A layout curve as the page draws it.
@@ -44,7 +46,7 @@ impl Session {
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8], name: &str) -> Result<Session, JsError> {
         let loaded = read_mesh(bytes, name).map_err(|e| JsError::new(&format!("{name}: {e}")))?;
-        Ok(Session { loaded, layout: None })
+        Ok(Session { loaded, layout: None, param: None })
     }
 
     /// Vertex positions, xyz interleaved, as `Float32Array`.
@@ -67,6 +69,7 @@ impl Session {
     #[wasm_bindgen(js_name = setLayout)]
     pub fn set_layout(&mut self, text: &str) -> Result<JsValue, JsError> {
         self.layout = None;
+        self.param = None;
         let mesh = &self.loaded.mesh;
         let layout = parse_layout(text).map_err(|e| JsError::new(&e.to_string()))?;
         let surface = build_layout(mesh, &layout).map_err(|e| JsError::new(&e.to_string()))?;
@@ -87,5 +90,31 @@ impl Session {
         };
         self.layout = Some(surface);
         to_js(&view)
+    }
+
+    /// Starts the parameterization of the placed layout: unit charts, every edge aligned,
+    /// the initial solve (iteration 0). Returns its statistics.
+    #[wasm_bindgen(js_name = startParam)]
+    pub fn start_param(&mut self, align: bool) -> Result<JsValue, JsError> {
+        let layout = self.layout.as_ref().ok_or_else(|| JsError::new("place a layout first"))?;
+        let options = ParamOptions { align, ..ParamOptions::default() };
+        let session = ParamSession::new(&self.loaded.mesh, layout, &options).map_err(|e| JsError::new(&e.to_string()))?;
+        let first = session.history()[0];
+        self.param = Some(session);
+        to_js(&first)
+    }
+
+    /// One chart-optimization iteration (paper 3.1); returns its statistics.
+    #[wasm_bindgen(js_name = stepParam)]
+    pub fn step_param(&mut self) -> Result<JsValue, JsError> {
+        let p = self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        to_js(&p.step().map_err(|e| JsError::new(&e.to_string()))?)
+    }
+
+    /// The final solve with the user's alignment tags; returns its distortion.
+    #[wasm_bindgen(js_name = finishParam)]
+    pub fn finish_param(&mut self) -> Result<JsValue, JsError> {
+        let p = self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        to_js(&p.finish().map_err(|e| JsError::new(&e.to_string()))?)
     }
 }

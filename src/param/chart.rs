@@ -175,7 +175,7 @@ impl Chart {
     /// `[0,1]²`, `point` still reproduces `u`), not a clamped one: chart optimization needs
     /// `uᵢ(x)` to reproduce the current parameterization exactly. Where no real root exists
     /// (outside the fold of a non-convex quad) the least-residual candidate is used. Never
-    /// NaN for finite input; for a degenerate chart the result is clamped to `[0,1]²`.
+    /// NaN: a chart collapsed to a point, or a non-finite `u`, gives the centre `(½, ½)`.
     pub fn bilinear_coords(&self, u: [f64; 2]) -> [f64; 2] {
         let [_, e, c2, f] = self.corners();
         let g = sub(sub(c2, e), f);
