@@ -4,72 +4,11 @@
 //! (`cargo test --test param_known_answers -- --nocapture`).
 
 use quadlay::layout::{build_layout, parse_layout};
-use quadlay::mesh::{build_mesh, Mesh, TriangleSoup};
+use quadlay::mesh::Mesh;
 use quadlay::param::{ParamOptions, ParamSession};
 
-/// A planar grid over the quadrilateral `q` (bilinear image of an n×n grid).
 fn planar_quad(q: [[f64; 2]; 4], n: u32) -> Mesh {
-    let mut positions = Vec::new();
-    for j in 0..=n {
-        for i in 0..=n {
-            let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
-            let w = [(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t];
-            let x = (0..4).map(|k| w[k] * q[k][0]).sum();
-            let y = (0..4).map(|k| w[k] * q[k][1]).sum();
-            positions.push([x, y, 0.0]);
-        }
-    }
-    let id = |i: u32, j: u32| j * (n + 1) + i;
-    let mut triangles = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            if (i + j) % 2 == 0 {
-                triangles.extend([[a, b, c], [a, c, d]]);
-            } else {
-                triangles.extend([[a, b, d], [b, c, d]]);
-            }
-        }
-    }
-    build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh
-}
-
-/// The surface of the parallelepiped spanned by unit vectors `a, b, c`, each face an n×n grid.
-fn parallelepiped(a: [f64; 3], b: [f64; 3], c: [f64; 3], n: u32) -> Mesh {
-    use std::collections::HashMap;
-    let mut index: HashMap<[u32; 3], u32> = HashMap::new();
-    let mut positions = Vec::new();
-    let mut vertex = |g: [u32; 3]| {
-        *index.entry(g).or_insert_with(|| {
-            let f = g.map(|x| x as f64 / n as f64);
-            positions.push(std::array::from_fn(|k| f[0] * a[k] + f[1] * b[k] + f[2] * c[k]));
-            (positions.len() - 1) as u32
-        })
-    };
-    let mut triangles = Vec::new();
-    // Each face: fixed axis `ax` at 0 or n, grid over the other two (u, v) with u × v outward.
-    for ax in 0..3 {
-        for high in [false, true] {
-            let (mut u, mut v) = ((ax + 1) % 3, (ax + 2) % 3);
-            if !high {
-                std::mem::swap(&mut u, &mut v);
-            }
-            for j in 0..n {
-                for i in 0..n {
-                    let g = |di: u32, dj: u32| {
-                        let mut p = [0u32; 3];
-                        p[ax] = if high { n } else { 0 };
-                        p[u] = i + di;
-                        p[v] = j + dj;
-                        p
-                    };
-                    let q = [g(0, 0), g(1, 0), g(1, 1), g(0, 1)].map(&mut vertex);
-                    triangles.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
-                }
-            }
-        }
-    }
-    build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh
+    quadlay::mesh::primitives::quad_grid(q, n)
 }
 
 fn layout_json(nodes: &[u32], edges: &[[u32; 2]], chart: &str) -> String {
@@ -145,7 +84,7 @@ fn the_sheared_cube_is_isometric_with_quad_charts_and_not_with_rectangles() {
     let b = [0.5, 0.75f64.sqrt(), 0.0];
     let c = [0.3, 0.2, (1.0f64 - 0.09 - 0.04).sqrt()];
     let n = 8;
-    let mesh = parallelepiped(a, b, c, n);
+    let mesh = quadlay::mesh::primitives::parallelepiped(a, b, c, n).0;
     let corner = |i: u32, j: u32, k: u32| {
         let p: [f64; 3] = std::array::from_fn(|x| (i as f64) * a[x] + (j as f64) * b[x] + (k as f64) * c[x]);
         mesh.positions().iter().position(|q| (0..3).all(|x| (q[x] - p[x]).abs() < 1e-12)).unwrap() as u32

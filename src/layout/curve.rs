@@ -1077,18 +1077,7 @@ mod tests {
                 positions.push([i as f64 + dx, j as f64 + dy, 0.0]);
             }
         }
-        let id = |i: u32, j: u32| j * (n + 1) + i;
-        let mut triangles = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-                if (i + j) % 2 == 0 {
-                    triangles.extend([[a, b, c], [a, c, d]]);
-                } else {
-                    triangles.extend([[a, b, d], [b, c, d]]);
-                }
-            }
-        }
+        let triangles = crate::mesh::primitives::grid_triangles(n);
         build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh
     }
 
@@ -1096,45 +1085,10 @@ mod tests {
         j * (n + 1) + i
     }
 
-    /// The surface of the unit cube, each face an n×n grid of split squares, outward facing.
-    /// Vertex of lattice point (i, j, k) in 0..=n: `cube_id(n, i, j, k)` via the returned map.
+    /// The surface of the unit cube, each face an n×n grid, outward facing; the vertex of
+    /// lattice point (i, j, k) in 0..=n is `ids[&[i, j, k]]`.
     fn cube(n: u32) -> (Mesh, HashMap<[u32; 3], u32>) {
-        let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-        let mut positions = Vec::new();
-        let mut triangles = Vec::new();
-        let mut vid = |p: [u32; 3], positions: &mut Vec<[f64; 3]>| -> u32 {
-            *ids.entry(p).or_insert_with(|| {
-                positions.push(p.map(|x| x as f64 / n as f64));
-                positions.len() as u32 - 1
-            })
-        };
-        // (origin, u, v) with u × v the outward normal.
-        let faces: [([u32; 3], [u32; 3], [u32; 3]); 6] = [
-            ([0, 0, n], [1, 0, 0], [0, 1, 0]),
-            ([0, 0, 0], [0, 1, 0], [1, 0, 0]),
-            ([0, 0, 0], [1, 0, 0], [0, 0, 1]),
-            ([0, n, 0], [0, 0, 1], [1, 0, 0]),
-            ([0, 0, 0], [0, 0, 1], [0, 1, 0]),
-            ([n, 0, 0], [0, 1, 0], [0, 0, 1]),
-        ];
-        for (o, u, v) in faces {
-            let at = |i: u32, j: u32| -> [u32; 3] { std::array::from_fn(|k| o[k] + i * u[k] + j * v[k]) };
-            for j in 0..n {
-                for i in 0..n {
-                    let a = vid(at(i, j), &mut positions);
-                    let b = vid(at(i + 1, j), &mut positions);
-                    let c = vid(at(i + 1, j + 1), &mut positions);
-                    let d = vid(at(i, j + 1), &mut positions);
-                    if (i + j) % 2 == 0 {
-                        triangles.extend([[a, b, c], [a, c, d]]);
-                    } else {
-                        triangles.extend([[a, b, d], [b, c, d]]);
-                    }
-                }
-            }
-        }
-        let mesh = build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh;
-        (mesh, ids)
+        crate::mesh::primitives::parallelepiped([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], n)
     }
 
     fn load(name: &str) -> Mesh {

@@ -198,29 +198,10 @@ pub fn trace_faces(rot: &Rotation, curves: &[(CurveNodes, &Curve)]) -> Vec<Trace
 mod tests {
     use super::*;
     use crate::layout::curve::trace_curve;
-    use crate::mesh::{build_mesh, TriangleSoup};
 
     /// A planar n×n grid on [0,1]², diagonals alternating.
     pub fn grid(n: u32) -> Mesh {
-        let mut positions = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                positions.push([i as f64 / n as f64, j as f64 / n as f64, 0.0]);
-            }
-        }
-        let id = |i: u32, j: u32| j * (n + 1) + i;
-        let mut triangles = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-                if (i + j) % 2 == 0 {
-                    triangles.extend([[a, b, c], [a, c, d]]);
-                } else {
-                    triangles.extend([[a, b, d], [b, c, d]]);
-                }
-            }
-        }
-        build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh
+        crate::mesh::primitives::quad_grid([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], n)
     }
 
     #[test]

@@ -11,6 +11,7 @@
 
 pub mod build;
 pub mod geometry;
+pub mod primitives;
 pub mod topology;
 
 pub use build::{build_mesh, BuiltMesh, MeshError, Repairs, TriangleSoup};

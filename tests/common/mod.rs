@@ -117,35 +117,7 @@ pub fn two_grids(n: u32) -> Mesh {
 /// The surface of the unit cube, each side an n×n grid, outward facing; the vertex of
 /// lattice point (i, j, k) in 0..=n is `ids[&[i, j, k]]`.
 pub fn cube(n: u32) -> (Mesh, HashMap<[u32; 3], u32>) {
-    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    // (origin, u, v) with u × v the outward normal.
-    let sides: [([u32; 3], [u32; 3], [u32; 3]); 6] = [
-        ([0, 0, n], [1, 0, 0], [0, 1, 0]),
-        ([0, 0, 0], [0, 1, 0], [1, 0, 0]),
-        ([0, 0, 0], [1, 0, 0], [0, 0, 1]),
-        ([0, n, 0], [0, 0, 1], [1, 0, 0]),
-        ([0, 0, 0], [0, 0, 1], [0, 1, 0]),
-        ([n, 0, 0], [0, 1, 0], [0, 0, 1]),
-    ];
-    for (o, u, v) in sides {
-        let mut vid = |i: u32, j: u32| -> u32 {
-            let p: [u32; 3] = std::array::from_fn(|k| o[k] + i * u[k] + j * v[k]);
-            *ids.entry(p).or_insert_with(|| {
-                positions.push(p.map(|x| x as f64 / n as f64));
-                positions.len() as u32 - 1
-            })
-        };
-        let mut local = HashMap::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                local.insert((i, j), vid(i, j));
-            }
-        }
-        triangles.extend(grid_triangles(n, Diagonals::Alternating, &|i, j| local[&(i, j)], &|_, _| false));
-    }
-    (mesh_of(positions, triangles), ids)
+    quadlay::mesh::primitives::parallelepiped([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], n)
 }
 
 /// A torus of revolution about the z axis (radii 2 and 0.7), `nu` steps around the axis
