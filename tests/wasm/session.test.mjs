@@ -60,3 +60,26 @@ test('bad input becomes a readable JS error naming the place, not a crash', () =
   assert.equal(ok.summary().vertices, 299);
   ok.free();
 });
+
+test('layout and parameterization through the wasm API, one iteration per call', () => {
+  const s = new Session(read('mushroom.obj'), 'mushroom.obj');
+  try {
+    const layout = readFileSync(new URL('../../www/layouts/mushroom-grid.layout.json', import.meta.url), 'utf8');
+    const view = s.setLayout(layout);
+    assert.equal(view.summary.faces, 4);
+    assert.equal(view.curves.length, 4 + 8);
+    assert.equal(view.vertex_face.length, 2337);
+    const first = s.startParam(true);
+    assert.equal(first.iteration, 0);
+    const steps = [1, 2, 3].map(() => s.stepParam());
+    assert.deepEqual(steps.map((x) => x.iteration), [1, 2, 3]);
+    assert.ok(steps[2].distortion.mean < first.distortion.mean, `${steps[2].distortion.mean} vs ${first.distortion.mean}`);
+    const fin = s.finishParam();
+    assert.equal(fin.flipped, 0);
+    assert.ok(Number.isFinite(fin.mean));
+    assert.throws(() => s.setLayout('{"format":"quad-layout","version":1,"nodes":[],"edges":[{"nodes":[0,1]}]}'), /edges\[0\]: node 0 does not exist/);
+    assert.throws(() => s.stepParam(), /start the parameterization first/);
+  } finally {
+    s.free();
+  }
+});
