@@ -308,6 +308,11 @@ impl ParamSession {
         Ok(d)
     }
 
+    /// Every node's position in the chart of each face it is on: `[face][&node]`.
+    pub fn node_positions(&self) -> NodePositions {
+        self.frames().0
+    }
+
     pub fn history(&self) -> &[IterationStats] {
         &self.history
     }
