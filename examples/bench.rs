@@ -40,10 +40,49 @@ fn param_stages(mesh: &quadlay::mesh::Mesh, layout: &quadlay::layout::SurfaceLay
     let t = Instant::now();
     let fin = s.finish().map(|d| d.mean).unwrap_or(f64::NAN);
     let final_ms = t.elapsed().as_secs_f64() * 1e3;
+    let st = s.stage_times();
     format!(
-        ",\"param_initial_ms\":{initial:.1},\"param_3_iterations_ms\":{iterations:.1},\"param_final_ms\":{final_ms:.1},\"param_total_ms\":{:.1},\"distortion\":{fin:.4}",
-        initial + iterations + final_ms
+        ",\"param_initial_ms\":{initial:.1},\"param_3_iterations_ms\":{iterations:.1},\"param_final_ms\":{final_ms:.1},\"param_total_ms\":{:.1},\"distortion\":{fin:.4},\"param_stages_ms\":{{\"assembly\":{:.1},\"symbolic\":{:.1},\"factor\":{:.1},\"solve\":{:.1},\"chart_optimization\":{:.1}}}",
+        initial + iterations + final_ms,
+        st.assembly * 1e3,
+        st.symbolic * 1e3,
+        st.factor * 1e3,
+        st.solve * 1e3,
+        st.chart_optimization * 1e3
     )
+}
+
+/// The reference of the speed goal: one sparse Cholesky factor-and-solve (symbolic
+/// included) of the mesh's scalar cotangent Laplacian (regularized by 1e-8 of its mean
+/// diagonal, so it is definite), in milliseconds, median.
+fn laplacian_reference_ms(mesh: &quadlay::mesh::Mesh) -> f64 {
+    use quadlay::solve::SpdSolver;
+    let w = geometry::cotangent_weights(mesh);
+    let n = mesh.n_vertices();
+    let mut entries: Vec<(u32, u32)> = (0..n as u32).map(|v| (v, v)).collect();
+    let mut values = vec![0.0; n];
+    for e in 0..mesh.n_edges() as u32 {
+        let h = mesh.edge_halfedge(e, 0);
+        let (a, b) = (mesh.from_vertex(h), mesh.to_vertex(h));
+        values[a as usize] += w[e as usize];
+        values[b as usize] += w[e as usize];
+        entries.push((a.max(b), a.min(b)));
+        values.push(-w[e as usize]);
+    }
+    let mean = values[..n].iter().sum::<f64>() / n as f64;
+    for x in &mut values[..n] {
+        *x += 1e-8 * mean;
+    }
+    let rhs: Vec<f64> = (0..n).map(|i| (i % 7) as f64 - 3.0).collect();
+    median_ms(|| {
+        let mut b = rhs.clone();
+        if let Ok(mut solver) = SpdSolver::new(n, &entries) {
+            if solver.factor(&values).is_ok() {
+                let _ = solver.solve_in_place(&mut b);
+            }
+        }
+        std::hint::black_box(b);
+    })
 }
 
 fn main() {
@@ -97,10 +136,11 @@ fn main() {
             }
             ms
         });
+        let reference = laplacian_reference_ms(&mesh);
         let name = path.rsplit('/').next().unwrap_or(&path);
         let layout_json = layout_ms.map_or(String::new(), |ms| format!(",\"layout_ms\":{ms:.3}{param_json}"));
         println!(
-            "{{\"mesh\":\"{name}\",\"vertices\":{},\"triangles\":{},\"load_ms\":{load:.3},\"topology_ms\":{topo:.3},\"cotangent_weights_ms\":{cot:.3}{layout_json}}}",
+            "{{\"mesh\":\"{name}\",\"vertices\":{},\"triangles\":{},\"load_ms\":{load:.3},\"topology_ms\":{topo:.3},\"cotangent_weights_ms\":{cot:.3},\"laplacian_cholesky_ms\":{reference:.3}{layout_json}}}",
             mesh.n_vertices(),
             mesh.n_faces()
         );

@@ -66,6 +66,14 @@ const results = {
 mkdirSync(join(root, 'bench'), { recursive: true });
 writeFileSync(join(root, 'bench/results.json'), JSON.stringify(results, null, 2) + '\n');
 
+console.log('\nparameterization stages, native (ms): mesh, assembly, symbolic, factor, solve, chart optimization; ' +
+  'reference: scalar cotangent Laplacian factor+solve');
+for (const n of native) {
+  if (!n.param_stages_ms) continue;
+  const st = n.param_stages_ms;
+  console.log(`${n.mesh.padEnd(18)} ${[st.assembly, st.symbolic, st.factor, st.solve, st.chart_optimization].map((x) => x.toFixed(1).padStart(8)).join('')}` +
+    `   reference ${n.laplacian_cholesky_ms.toFixed(1)}`);
+}
 const cell = (x, w) => (x === undefined ? '-' : x.toFixed(2)).padStart(w);
 console.log('\nmesh               triangles  load native   wasm  layout native   wasm  param native     wasm  (ms)');
 for (const [i, n] of native.entries()) {

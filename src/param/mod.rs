@@ -18,6 +18,7 @@ use chart::{optimize, rest_frame, Chart, ChartKind, ChartTriangle, OptimizeOptio
 use cut::{curve_sides, cut_mesh, CutMesh};
 use crate::clock::now;
 use std::collections::HashMap;
+pub use system::StageTimes;
 use system::{NodePositions, Solution, System};
 pub use system::ParamError;
 use transition::Affine;
@@ -82,6 +83,7 @@ pub struct ParamSession {
     final_solution: Option<(Solution, Distortion)>,
     anderson: anderson::Anderson,
     accelerate: bool,
+    chart_seconds: f64,
 }
 
 fn chart_kind(c: ChartType) -> ChartKind {
@@ -154,6 +156,7 @@ impl ParamSession {
             final_solution: None,
             anderson: anderson::Anderson::new(5),
             accelerate: options.accelerate,
+            chart_seconds: 0.0,
         };
         let sol = session.solve(true)?;
         let distortion = session.distortion(&sol);
@@ -234,6 +237,7 @@ impl ParamSession {
             let (rest, area) = self.rest[t];
             tris[f].push(ChartTriangle { st, rest, area });
         }
+        let t_charts = now();
         let fitted: Vec<Chart> = self
             .charts
             .iter()
@@ -246,6 +250,7 @@ impl ParamSession {
                 optimize(&chart.with_kind(kind), &tris[f], &OptimizeOptions::default()).0
             })
             .collect();
+        self.chart_seconds += now() - t_charts;
         // The paper's step is `fitted`; Anderson mixing accelerates it (see `anderson`).
         let kinds: Vec<ChartKind> = self.domains.iter().map(|d| d.kind).collect();
         let flat = |charts: &[Chart]| -> Vec<f64> {
@@ -311,6 +316,18 @@ impl ParamSession {
     /// Every node's position in the chart of each face it is on: `[face][&node]`.
     pub fn node_positions(&self) -> NodePositions {
         self.frames().0
+    }
+
+    /// Seconds per stage over all solves and chart optimizations so far.
+    pub fn stage_times(&self) -> StageTimes {
+        let (a, b) = (self.all_aligned.times, self.user_aligned.times);
+        StageTimes {
+            assembly: a.assembly + b.assembly,
+            symbolic: a.symbolic + b.symbolic,
+            factor: a.factor + b.factor,
+            solve: a.solve + b.solve,
+            chart_optimization: self.chart_seconds,
+        }
     }
 
     pub fn history(&self) -> &[IterationStats] {

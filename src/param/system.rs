@@ -20,6 +20,7 @@
 use super::cut::CutMesh;
 use super::transition::Affine;
 use crate::mesh::geometry::{cross, dot, norm, sub};
+use crate::clock::now;
 use crate::mesh::NONE;
 use crate::solve::{SolveError, SpdSolver};
 use std::collections::HashMap;
@@ -124,6 +125,16 @@ pub fn cotangent_halves(cut: &CutMesh) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// Seconds spent in each stage of the solves so far (for benchmarks).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
+pub struct StageTimes {
+    pub assembly: f64,
+    pub symbolic: f64,
+    pub factor: f64,
+    pub solve: f64,
+    pub chart_optimization: f64,
+}
+
 /// The system for one set of aligned curves: its unknowns and a factorization whose
 /// symbolic part is kept across solves (only the charts, hence the values, change).
 pub struct System {
@@ -133,6 +144,7 @@ pub struct System {
     solver: Option<SpdSolver>,
     /// Lower-triangle entries in assembly order (fixed by the unknowns and the triangles).
     entries: Vec<(u32, u32)>,
+    pub times: StageTimes,
 }
 
 /// Per-triangle chart coordinates of a solve, and per-vertex coordinates in their own chart.
@@ -167,7 +179,14 @@ impl System {
                 }
             })
             .collect();
-        System { vars, n_unknowns: n as usize, weights: cotangent_halves(cut), solver: None, entries: Vec::new() }
+        System {
+            vars,
+            n_unknowns: n as usize,
+            weights: cotangent_halves(cut),
+            solver: None,
+            entries: Vec::new(),
+            times: StageTimes::default(),
+        }
     }
 
     pub fn n_unknowns(&self) -> usize {
@@ -226,6 +245,7 @@ impl System {
         sides: &[[u32; 2]],
         transitions: &[Affine],
     ) -> Result<Solution, ParamError> {
+        let t0 = now();
         let mut exprs = Vec::with_capacity(cut.triangles.len());
         for (t, tri) in cut.triangles.iter().enumerate() {
             let face = cut.triangle_face[t];
@@ -267,15 +287,22 @@ impl System {
                 }
             }
         }
+        let t1 = now();
+        self.times.assembly += t1 - t0;
         if record_pattern && self.n_unknowns > 0 {
             self.solver = Some(SpdSolver::new(self.n_unknowns, &entries)?);
             self.entries = entries;
         }
+        let t2 = now();
+        self.times.symbolic += t2 - t1;
         let mut z = rhs;
         if self.n_unknowns > 0 {
             let solver = self.solver.as_mut().ok_or(ParamError::Solve(SolveError::NotPositiveDefinite))?;
             solver.factor(&values)?;
+            let t3 = now();
+            self.times.factor += t3 - t2;
             solver.solve_in_place(&mut z)?;
+            self.times.solve += now() - t3;
         }
         let corner_uv = exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect();
         Ok(Solution { corner_uv })
