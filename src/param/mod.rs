@@ -279,22 +279,23 @@ impl ParamSession {
         let previous = self.history.last().map_or(f64::INFINITY, |h| h.distortion.mean);
         self.charts = accelerated;
         let valid = self.charts.iter().all(|c| c.is_convex() && c.x[0] > 0.0);
-        let mut result = if valid { self.solve(true).ok() } else { None };
-        if let Some(sol) = &result {
-            if self.distortion(sol).mean > 100.0 * previous {
-                result = None;
+        let accepted = if valid { self.solve(true).ok() } else { None }
+            .map(|sol| {
+                let d = self.distortion(&sol);
+                (sol, d)
+            })
+            .filter(|(_, d)| d.mean <= 100.0 * previous);
+        let (sol, distortion) = match accepted {
+            Some(result) => result,
+            None => {
+                // Fall back to the paper's plain step.
+                self.anderson.reset();
+                self.charts = fitted;
+                let sol = self.solve(true)?;
+                let d = self.distortion(&sol);
+                (sol, d)
             }
-        }
-        if result.is_none() {
-            // Fall back to the paper's plain step.
-            self.anderson.reset();
-            self.charts = fitted;
-        }
-        let sol = match result {
-            Some(sol) => sol,
-            None => self.solve(true)?,
         };
-        let distortion = self.distortion(&sol);
         self.last = sol;
         let stats = IterationStats { iteration: self.history.len(), distortion, seconds: now() - t0 };
         self.history.push(stats);
