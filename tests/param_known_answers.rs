@@ -4,12 +4,9 @@
 //! (`cargo test --test param_known_answers -- --nocapture`).
 
 use quadlay::layout::{build_layout, parse_layout};
+use quadlay::mesh::primitives::quad_grid;
 use quadlay::mesh::Mesh;
 use quadlay::param::{ParamOptions, ParamSession};
-
-fn planar_quad(q: [[f64; 2]; 4], n: u32) -> Mesh {
-    quadlay::mesh::primitives::quad_grid(q, n)
-}
 
 fn layout_json(nodes: &[u32], edges: &[[u32; 2]], chart: &str) -> String {
     let nodes: Vec<String> = nodes.iter().map(|v| format!("{{\"vertex\":{v}}}")).collect();
@@ -42,7 +39,7 @@ const Q: [[f64; 2]; 4] = [[0.0, 0.0], [2.0, 0.0], [2.4, 1.3], [0.3, 1.1]];
 #[test]
 fn a_planar_quadrilateral_becomes_an_isometry_with_quad_charts_only() {
     let n = 16;
-    let mesh = planar_quad(Q, n);
+    let mesh = quad_grid(Q, n);
     let corners = [0, n, (n + 1) * (n + 1) - 1, n * (n + 1)];
     let (quad, final_quad, flips) = run(&mesh, &layout_json(&corners, &[], "quad"), 30);
     println!("quad chart, mean distortion per iteration: {}", sci(&quad));
@@ -61,7 +58,7 @@ fn a_planar_quadrilateral_becomes_an_isometry_with_quad_charts_only() {
 fn a_planar_quadrilateral_cut_into_2x2_faces_by_curves_across_triangles() {
     // Odd n: the curves between side midpoints run across triangles, not along edges.
     let n = 17;
-    let mesh = planar_quad(Q, n - 1);
+    let mesh = quad_grid(Q, n - 1);
     let m = n - 1;
     let id = |i: u32, j: u32| j * (m + 1) + i;
     let h = m / 2;
@@ -84,11 +81,8 @@ fn the_sheared_cube_is_isometric_with_quad_charts_and_not_with_rectangles() {
     let b = [0.5, 0.75f64.sqrt(), 0.0];
     let c = [0.3, 0.2, (1.0f64 - 0.09 - 0.04).sqrt()];
     let n = 8;
-    let mesh = quadlay::mesh::primitives::parallelepiped(a, b, c, n).0;
-    let corner = |i: u32, j: u32, k: u32| {
-        let p: [f64; 3] = std::array::from_fn(|x| (i as f64) * a[x] + (j as f64) * b[x] + (k as f64) * c[x]);
-        mesh.positions().iter().position(|q| (0..3).all(|x| (q[x] - p[x]).abs() < 1e-12)).unwrap() as u32
-    };
+    let (mesh, ids) = quadlay::mesh::primitives::parallelepiped(a, b, c, n);
+    let corner = |i: u32, j: u32, k: u32| ids[&[i * n, j * n, k * n]];
     let nodes = [corner(0, 0, 0), corner(1, 0, 0), corner(1, 1, 0), corner(0, 1, 0), corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)];
     let edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]];
     let (quad, final_quad, flips) = run(&mesh, &layout_json(&nodes, &edges, "quad"), 20);

@@ -76,6 +76,8 @@ pub struct ParamSession {
     charts: Vec<Chart>,
     /// Rest shape and area of every refined triangle (for distortion and eq. 10).
     rest: Vec<([[f64; 2]; 2], f64)>,
+    /// Half cotangents of every refined triangle's corners, shared by both systems.
+    weights: Vec<[f64; 3]>,
     all_aligned: System,
     user_aligned: System,
     history: Vec<IterationStats>,
@@ -143,12 +145,14 @@ impl ParamSession {
             .collect();
         let all_aligned = System::new(&cut, &every);
         let user_aligned = System::new(&cut, &tags);
+        let weights = system::cotangent_halves(&cut);
         let mut session = ParamSession {
             cut,
             sides,
             domains,
             charts,
             rest,
+            weights,
             all_aligned,
             user_aligned,
             history: Vec::new(),
@@ -202,7 +206,7 @@ impl ParamSession {
     fn solve(&mut self, all: bool) -> Result<Solution, ParamError> {
         let (nodes, transitions) = self.frames();
         let system = if all { &mut self.all_aligned } else { &mut self.user_aligned };
-        system.solve(&self.cut, &nodes, &self.sides, &transitions)
+        system.solve(&self.cut, &nodes, &self.sides, &transitions, &self.weights)
     }
 
     fn distortion(&self, sol: &Solution) -> Distortion {

@@ -140,7 +140,6 @@ pub struct StageTimes {
 pub struct System {
     vars: Vec<Var>,
     n_unknowns: usize,
-    weights: Vec<[f64; 3]>,
     solver: Option<SpdSolver>,
     /// Lower-triangle entries in assembly order (fixed by the unknowns and the triangles).
     entries: Vec<(u32, u32)>,
@@ -182,7 +181,6 @@ impl System {
         System {
             vars,
             n_unknowns: n as usize,
-            weights: cotangent_halves(cut),
             solver: None,
             entries: Vec::new(),
             times: StageTimes::default(),
@@ -234,7 +232,8 @@ impl System {
     }
 
     /// Assembles and solves the system for the given node positions and transitions
-    /// (`transitions[c]` maps the chart left of curve c to the chart on its right).
+    /// (`transitions[c]` maps the chart left of curve c to the chart on its right), with the
+    /// refined mesh's [`cotangent_halves`] as `weights`.
     ///
     /// # Errors
     /// [`ParamError`]: a failed factorization, or a mesh too coarse for the layout.
@@ -244,6 +243,7 @@ impl System {
         nodes: &NodePositions,
         sides: &[[u32; 2]],
         transitions: &[Affine],
+        weights: &[[f64; 3]],
     ) -> Result<Solution, ParamError> {
         let t0 = now();
         let mut exprs = Vec::with_capacity(cut.triangles.len());
@@ -262,7 +262,7 @@ impl System {
             for k in 0..3 {
                 // Edge between corners a and b, opposite corner k.
                 let (a, b) = (&ex[(k + 1) % 3], &ex[(k + 2) % 3]);
-                let w = self.weights[t][k];
+                let w = weights[t][k];
                 let d = [a.b[0] - b.b[0], a.b[1] - b.b[1]];
                 // Term w |M_a z_a − M_b z_b + d|²: gradient rows M_aᵀ(...) and −M_bᵀ(...).
                 for (x, sx) in [(a, 1.0), (b, -1.0)] {
