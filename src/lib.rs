@@ -10,6 +10,7 @@ pub mod io;
 pub mod layout;
 pub mod mesh;
 pub mod param;
+pub mod quad;
 pub mod solve;
 pub mod summary;
 
