@@ -2,18 +2,53 @@
 //! [`Session`] lives in the page's worker and keeps state between messages; data crosses as
 //! typed arrays, summaries as plain JS objects, errors as JS `Error`s with readable text.
 
+use crate::clock::now;
+use crate::io::{write_obj, Polygons};
 use crate::io::{read_mesh, LoadedMesh};
-use crate::layout::{build_layout, curve, parse_layout, SurfaceLayout};
+use crate::layout::{build_layout, curve, parse_layout, ChartType, Layout, SurfaceLayout};
+use crate::param::chart::ChartKind;
 use crate::param::{ParamOptions, ParamSession};
 use crate::summary::{LayoutSummary, MeshSummary};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen]
 pub struct Session {
     loaded: LoadedMesh,
+    /// The layout file as parsed, to re-derive chart types per run.
+    file: Option<Layout>,
     layout: Option<SurfaceLayout>,
-    param: Option<ParamSession>,
+    /// The active parameterization and the layout it ran on (chart types as asked).
+    param: Option<Run>,
+    /// Parameterizations put aside by [`Session::keep_param`], by name.
+    kept: Vec<(String, Run)>,
+    /// Seconds spent reading the mesh and placing the layout (for the report).
+    load_seconds: f64,
+    layout_seconds: f64,
+}
+
+struct Run {
+    layout: SurfaceLayout,
+    param: ParamSession,
+}
+
+/// Options of a parameterization run, as one object from JS (all optional).
+#[derive(Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+struct SolveOptions {
+    /// Honour the layout's alignment tags in the final solve (default true).
+    align: Option<bool>,
+    /// Chart type of faces without a chart in a `patches` entry: "quad", "rect" or "unit";
+    /// absent or null: the layout's `defaults.chart`.
+    chart: Option<String>,
+}
+
+/// A face's chart as the page draws it (paper Fig. 9).
+#[derive(Serialize)]
+struct ChartView {
+    kind: &'static str,
+    /// c0..c3, counter-clockwise.
+    corners: [[f64; 2]; 4],
 }
 
 /// A layout curve as the page draws it.
@@ -45,8 +80,9 @@ impl Session {
     /// Reads a mesh from the bytes of a file; `name` decides the format by its extension.
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8], name: &str) -> Result<Session, JsError> {
+        let t0 = now();
         let loaded = read_mesh(bytes, name).map_err(|e| JsError::new(&format!("{name}: {e}")))?;
-        Ok(Session { loaded, layout: None, param: None })
+        Ok(Session { loaded, file: None, layout: None, param: None, kept: Vec::new(), load_seconds: now() - t0, layout_seconds: 0.0 })
     }
 
     /// Vertex positions, xyz interleaved, as `Float32Array`.
@@ -68,11 +104,15 @@ impl Session {
     /// curves as polylines and the face of every vertex; throws the layout's error.
     #[wasm_bindgen(js_name = setLayout)]
     pub fn set_layout(&mut self, text: &str) -> Result<JsValue, JsError> {
+        self.file = None;
         self.layout = None;
         self.param = None;
+        self.kept.clear();
+        let t0 = now();
         let mesh = &self.loaded.mesh;
         let layout = parse_layout(text).map_err(|e| JsError::new(&e.to_string()))?;
         let surface = build_layout(mesh, &layout).map_err(|e| JsError::new(&e.to_string()))?;
+        self.layout_seconds = now() - t0;
         let curves = surface
             .curves
             .iter()
@@ -89,32 +129,186 @@ impl Session {
             vertex_face: surface.vertex_face.iter().map(|&f| if f == u32::MAX { -1 } else { f as i32 }).collect(),
         };
         self.layout = Some(surface);
+        self.file = Some(layout);
         to_js(&view)
     }
 
     /// Starts the parameterization of the placed layout: unit charts, every edge aligned,
-    /// the initial solve (iteration 0). Returns its statistics.
+    /// the initial solve (iteration 0). Returns its statistics. `options` is either a boolean
+    /// (align) or an object `{ align?: bool, chart?: "quad" | "rect" | "unit" | null }`;
+    /// `chart` replaces the layout's default chart type (faces with a chart in `patches`
+    /// keep theirs).
     #[wasm_bindgen(js_name = startParam)]
-    pub fn start_param(&mut self, align: bool) -> Result<JsValue, JsError> {
-        let layout = self.layout.as_ref().ok_or_else(|| JsError::new("place a layout first"))?;
-        let options = ParamOptions { align, ..ParamOptions::default() };
-        let session = ParamSession::new(&self.loaded.mesh, layout, &options).map_err(|e| JsError::new(&e.to_string()))?;
-        let first = session.history()[0];
-        self.param = Some(session);
+    pub fn start_param(&mut self, options: JsValue) -> Result<JsValue, JsError> {
+        self.param = None;
+        let opts: SolveOptions = if let Some(align) = options.as_bool() {
+            SolveOptions { align: Some(align), chart: None }
+        } else if options.is_undefined() || options.is_null() {
+            SolveOptions::default()
+        } else {
+            serde_wasm_bindgen::from_value(options).map_err(|e| JsError::new(&format!("solve options: {e}")))?
+        };
+        let chart = match opts.chart.as_deref() {
+            None => None,
+            Some(c) => Some(ChartType::parse(c).ok_or_else(|| JsError::new(&format!("unknown chart type '{c}' (quad, rect or unit)")))?),
+        };
+        let (Some(layout), Some(file)) = (self.layout.as_ref(), self.file.as_ref()) else {
+            return Err(JsError::new("place a layout first"));
+        };
+        let layout = match chart {
+            Some(c) => with_default_chart(layout, file, c),
+            None => layout.clone(),
+        };
+        let options = ParamOptions { align: opts.align.unwrap_or(true), ..ParamOptions::default() };
+        let param = ParamSession::new(&self.loaded.mesh, &layout, &options).map_err(|e| JsError::new(&e.to_string()))?;
+        let first = param.history()[0];
+        self.param = Some(Run { layout, param });
         to_js(&first)
     }
 
     /// One chart-optimization iteration (paper 3.1); returns its statistics.
     #[wasm_bindgen(js_name = stepParam)]
     pub fn step_param(&mut self) -> Result<JsValue, JsError> {
-        let p = self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        let p = self.param_mut()?;
         to_js(&p.step().map_err(|e| JsError::new(&e.to_string()))?)
     }
 
     /// The final solve with the user's alignment tags; returns its distortion.
     #[wasm_bindgen(js_name = finishParam)]
     pub fn finish_param(&mut self) -> Result<JsValue, JsError> {
-        let p = self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        let p = self.param_mut()?;
         to_js(&p.finish().map_err(|e| JsError::new(&e.to_string()))?)
     }
+
+    /// The refined (cut) mesh's vertex positions, xyz interleaved, as `Float32Array`.
+    #[wasm_bindgen(js_name = cutPositions)]
+    pub fn cut_positions(&self) -> Result<Vec<f32>, JsError> {
+        Ok(self.param_ref()?.cut().positions.iter().flat_map(|p| p.map(|c| c as f32)).collect())
+    }
+
+    /// The refined mesh's triangles (vertex index triples), as `Uint32Array`.
+    #[wasm_bindgen(js_name = cutTriangles)]
+    pub fn cut_triangles(&self) -> Result<Vec<u32>, JsError> {
+        Ok(self.param_ref()?.cut().triangles.iter().flatten().copied().collect())
+    }
+
+    /// The layout face (chart) of every refined triangle, as `Uint32Array`.
+    #[wasm_bindgen(js_name = triangleFace)]
+    pub fn triangle_face(&self) -> Result<Vec<u32>, JsError> {
+        Ok(self.param_ref()?.cut().triangle_face.clone())
+    }
+
+    /// The latest solution: per refined triangle, its three corners' uv in its face's
+    /// chart (u0 v0 u1 v1 u2 v2), as `Float32Array`.
+    #[wasm_bindgen(js_name = cornerUv)]
+    pub fn corner_uv(&self) -> Result<Vec<f32>, JsError> {
+        Ok(self.param_ref()?.solution().corner_uv.iter().flatten().flat_map(|u| u.map(|c| c as f32)).collect())
+    }
+
+    /// ‖JᵀJ − I‖²_F of every refined triangle in the latest solution, as `Float32Array`.
+    #[wasm_bindgen(js_name = triangleDistortion)]
+    pub fn triangle_distortion(&self) -> Result<Vec<f32>, JsError> {
+        Ok(self.param_ref()?.triangle_distortion().into_iter().map(|d| d as f32).collect())
+    }
+
+    /// Every face's chart: `[{ kind: "quad" | "rect" | "unit", corners: [[u, v] × 4] }]`.
+    #[wasm_bindgen(js_name = paramCharts)]
+    pub fn param_charts(&self) -> Result<JsValue, JsError> {
+        let charts: Vec<ChartView> = self
+            .param_ref()?
+            .charts()
+            .iter()
+            .map(|c| ChartView {
+                kind: match c.kind {
+                    ChartKind::Quad => "quad",
+                    ChartKind::Rect => "rect",
+                    ChartKind::Unit => "unit",
+                },
+                corners: c.corners(),
+            })
+            .collect();
+        to_js(&charts)
+    }
+
+    /// The iteration history so far (0 = the initial solve), as the report's `iterations`.
+    #[wasm_bindgen(js_name = paramHistory)]
+    pub fn param_history(&self) -> Result<JsValue, JsError> {
+        to_js(&self.param_ref()?.history())
+    }
+
+    /// The refined triangle mesh with one `vt` per triangle corner (the corner's coordinates
+    /// in its triangle's chart), as OBJ bytes (`--param-out` of the command line).
+    #[wasm_bindgen(js_name = paramObj)]
+    pub fn param_obj(&self) -> Result<Vec<u8>, JsError> {
+        let p = self.param_ref()?;
+        let cut = p.cut();
+        let faces: Vec<u32> = cut.triangles.iter().flatten().copied().collect();
+        let uv: Vec<[f64; 2]> = p.solution().corner_uv.iter().flatten().copied().collect();
+        Ok(write_obj(Polygons { positions: &cut.positions, faces: &faces, arity: 3 }, Some(&uv)))
+    }
+
+    /// Seconds spent reading the mesh and placing the current layout: `{ load, layout }`.
+    pub fn seconds(&self) -> Result<JsValue, JsError> {
+        #[derive(Serialize)]
+        struct S {
+            load: f64,
+            layout: f64,
+        }
+        to_js(&S { load: self.load_seconds, layout: self.layout_seconds })
+    }
+
+    /// Puts the active parameterization aside under `name` (replacing one of that name), so
+    /// several runs (e.g. unit, rect and quad charts) can be kept and switched between.
+    #[wasm_bindgen(js_name = keepParam)]
+    pub fn keep_param(&mut self, name: &str) -> Result<(), JsError> {
+        let run = self.param.take().ok_or_else(|| JsError::new("no parameterization to keep"))?;
+        self.kept.retain(|(n, _)| n != name);
+        self.kept.push((name.to_string(), run));
+        Ok(())
+    }
+
+    /// Makes the run kept under `name` the active one (the active one is kept under
+    /// `previous` if given). Returns false if there is no such run.
+    #[wasm_bindgen(js_name = useParam)]
+    pub fn use_param(&mut self, name: &str, previous: Option<String>) -> bool {
+        let Some(at) = self.kept.iter().position(|(n, _)| n == name) else { return false };
+        let (_, run) = self.kept.remove(at);
+        if let (Some(prev), Some(active)) = (previous, self.param.take()) {
+            self.kept.retain(|(n, _)| *n != prev);
+            self.kept.push((prev, active));
+        }
+        self.param = Some(run);
+        true
+    }
+}
+
+impl Session {
+    fn param_ref(&self) -> Result<&ParamSession, JsError> {
+        self.param.as_ref().map(|r| &r.param).ok_or_else(|| JsError::new("start the parameterization first"))
+    }
+    fn param_mut(&mut self) -> Result<&mut ParamSession, JsError> {
+        self.param.as_mut().map(|r| &mut r.param).ok_or_else(|| JsError::new("start the parameterization first"))
+    }
+}
+
+/// The layout with `chart` for every face whose `patches` entry (if any) names no chart.
+/// A face's entry is the one whose corners, counter-clockwise, are the face's corners
+/// (`build_layout` takes a face's corners from its entry).
+fn with_default_chart(layout: &SurfaceLayout, file: &Layout, chart: ChartType) -> SurfaceLayout {
+    let mut out = layout.clone();
+    for f in &mut out.faces {
+        let corners = f.corner_nodes();
+        let explicit = file.patches.iter().any(|p| {
+            p.chart.is_some()
+                && (0..4).any(|r| {
+                    let mut c = p.corners;
+                    c.rotate_left(r);
+                    c == corners
+                })
+        });
+        if !explicit {
+            f.chart = chart;
+        }
+    }
+    out
 }

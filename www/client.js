@@ -19,6 +19,8 @@ export class CoreClient {
     this.nextId = 1;
     /** id → { resolve, reject } of the requests in flight */
     this.pending = new Map();
+    /** The last mesh and layout the worker accepted, to send again to a fresh worker. */
+    this.replay = null;
   }
 
   /**
@@ -28,7 +30,12 @@ export class CoreClient {
    * @returns {Promise<{summary: object, positions: Float32Array, triangles: Uint32Array}>}
    */
   load(bytes, name) {
-    return this.request(MSG.LOAD, { bytes, name }, [bytes]);
+    // A copy stays here, so a restarted worker gets the mesh again (see restart()).
+    const copy = bytes.slice(0);
+    return this.request(MSG.LOAD, { bytes, name }, [bytes]).then((result) => {
+      this.replay = { mesh: { bytes: copy, name }, layout: null };
+      return result;
+    });
   }
 
   /**
@@ -37,7 +44,64 @@ export class CoreClient {
    * @returns {Promise<object>} the LayoutView of protocol.js
    */
   setLayout(text) {
-    return this.request(MSG.SET_LAYOUT, { text });
+    if (this.replay) this.replay.layout = null; // the worker drops its layout first
+    return this.request(MSG.SET_LAYOUT, { text }).then((result) => {
+      if (this.replay) this.replay.layout = text;
+      return result;
+    });
+  }
+
+  /**
+   * Starts a parameterization of the placed layout (iteration 0).
+   * @param {{align?: boolean, chart?: 'quad'|'rect'|'unit'|null}} options
+   */
+  startParam(options) {
+    return this.request(MSG.PARAM_START, { options });
+  }
+
+  /** One chart-optimization iteration; resolves to its IterationStats. */
+  stepParam() {
+    return this.request(MSG.PARAM_STEP);
+  }
+
+  /** The final solve; resolves to the ParamResult of protocol.js. */
+  finishParam() {
+    return this.request(MSG.PARAM_FINISH);
+  }
+
+  /** Keeps the active run as `name`. */
+  keepParam(name) {
+    return this.request(MSG.PARAM_KEEP, { name });
+  }
+
+  /** Makes the run kept as `name` active (the active one kept as `previous`). */
+  useParam(name, previous = null) {
+    return this.request(MSG.PARAM_USE, { name, previous });
+  }
+
+  /**
+   * A file of the active run: 'param-obj', 'quad-obj', 'quad-ply' or 'quad-glb'.
+   * @returns {Promise<{bytes: ArrayBuffer, mime: string}>}
+   */
+  exportFile(what) {
+    return this.request(MSG.EXPORT, { what });
+  }
+
+  /**
+   * Throws the worker away (requests in flight are rejected with `reason`) and starts a
+   * fresh one with the current mesh and layout sent again, so work can go on; its runs are
+   * lost. Used to cancel a long solve and after a crash of the core.
+   * @returns {Promise<void>} settles when the mesh and layout are back in place
+   */
+  restart(reason = 'cancelled') {
+    this.terminate(reason);
+    const replay = this.replay;
+    if (!replay) return Promise.resolve();
+    this.replay = null;
+    const mesh = replay.mesh.bytes.slice(0);
+    const loaded = this.load(mesh, replay.mesh.name);
+    const placed = replay.layout == null ? loaded : loaded.then(() => this.setLayout(replay.layout));
+    return placed.then(() => {}, () => {});
   }
 
   /** Sends one request; resolves to its `result`, rejects with a CoreError. */
@@ -81,7 +145,7 @@ export class CoreClient {
       entry.resolve(result);
     } else {
       entry.reject(new CoreError(error, { fatal }));
-      if (fatal) this.terminate(error);
+      if (fatal) this.restart(error);
     }
   }
 }

@@ -42,4 +42,46 @@ export const MSG = Object.freeze({
    * On error (the layout's rule that fails, naming the entry) the worker has no layout.
    */
   SET_LAYOUT: 'set-layout',
+  /**
+   * Start a parameterization of the placed layout (paper 3.1: every edge aligned, unit
+   * charts, the initial solve = iteration 0). Replaces the active run.
+   * args:   { options: { align?: boolean (default true),
+   *                      chart?: 'quad' | 'rect' | 'unit' | null — chart type of faces whose
+   *                              patches entry names none; null: the layout's default } }
+   * result: IterationStats { iteration: 0, distortion: Distortion, seconds }
+   *   Distortion { mean (area-weighted ‖JᵀJ−I‖²), max, flipped (triangles) }
+   */
+  PARAM_START: 'param-start',
+  /** One chart-optimization iteration of the active run. args: {}; result: IterationStats. */
+  PARAM_STEP: 'param-step',
+  /**
+   * The final solve with the user's alignment tags, and everything the page draws.
+   * args:   {}
+   * result: ParamResult { distortion: Distortion, history: IterationStats[],
+   *           charts: [{ kind: 'quad'|'rect'|'unit', corners: [[u,v] × 4] }] (per face),
+   *           seconds: { load, layout } (reading the mesh, placing the layout, in the worker),
+   *           triangles: number (of the refined mesh),
+   *           position: Float32Array (9 per refined triangle: its corners' xyz),
+   *           normal: Float32Array (9 per triangle: its flat normal, per corner),
+   *           uv: Float32Array (6 per triangle: its corners' uv in its face's chart),
+   *           face: Uint32Array (per triangle: its layout face),
+   *           distortion: Float32Array (per triangle: ‖JᵀJ−I‖²),
+   *           cornerDistortion: Float32Array (3 per triangle, the same per corner) }
+   *         — arrays transferred
+   */
+  PARAM_FINISH: 'param-finish',
+  /** Put the active run aside as `name`. args: { name }; result: null. */
+  PARAM_KEEP: 'param-keep',
+  /**
+   * Make the run kept as `name` the active one (the active one is kept as `previous`).
+   * args: { name, previous?: string }; result: boolean (false: no such run).
+   */
+  PARAM_USE: 'param-use',
+  /**
+   * A file of the active run, to download.
+   * args:   { what: 'param-obj' (the refined triangle mesh, one vt per triangle corner)
+   *                 | 'quad-obj' | 'quad-ply' | 'quad-glb' (the quad mesh of the last REMESH) }
+   * result: { bytes: ArrayBuffer (transferred), mime: string }
+   */
+  EXPORT: 'export',
 });

@@ -26,7 +26,83 @@ const handlers = {
     if (!session) throw new Error('load a mesh before a layout');
     return { result: session.setLayout(text) };
   },
+  [MSG.PARAM_START]({ options = {} }) {
+    if (!session) throw new Error('load a mesh first');
+    return { result: session.startParam(options) };
+  },
+  [MSG.PARAM_STEP]() {
+    if (!session) throw new Error('load a mesh first');
+    return { result: session.stepParam() };
+  },
+  [MSG.PARAM_FINISH]() {
+    if (!session) throw new Error('load a mesh first');
+    const distortion = session.finishParam();
+    const view = paramView(session);
+    return {
+      result: { distortion, history: session.paramHistory(), charts: session.paramCharts(), seconds: session.seconds(), ...view },
+      transfer: [view.position.buffer, view.normal.buffer, view.uv.buffer, view.face.buffer,
+        view.distortion.buffer, view.cornerDistortion.buffer],
+    };
+  },
+  [MSG.PARAM_KEEP]({ name }) {
+    if (!session) throw new Error('load a mesh first');
+    session.keepParam(name);
+    return { result: null };
+  },
+  [MSG.PARAM_USE]({ name, previous }) {
+    if (!session) throw new Error('load a mesh first');
+    return { result: session.useParam(name, previous ?? undefined) };
+  },
+  [MSG.EXPORT]({ what }) {
+    if (!session) throw new Error('load a mesh first');
+    const [bytes, mime] = {
+      'param-obj': () => [session.paramObj(), 'model/obj'],
+      'quad-obj': () => [session.quadFile('obj'), 'model/obj'],
+      'quad-ply': () => [session.quadFile('ply'), 'application/octet-stream'],
+      'quad-glb': () => [session.quadFile('glb'), 'model/gltf-binary'],
+    }[what]?.() ?? [];
+    if (!bytes) throw new Error(`cannot export '${what}'`);
+    return { result: { bytes: bytes.buffer, mime }, transfer: [bytes.buffer] };
+  },
 };
+
+/**
+ * The active run's refined mesh as three.js draws it: one vertex per triangle corner, so
+ * each triangle carries its own chart's uv and its own distortion (built here, not on the
+ * page's thread).
+ */
+function paramView(s) {
+  const pos = s.cutPositions();
+  const tri = s.cutTriangles();
+  const uv = s.cornerUv();
+  const face = s.triangleFace();
+  const distortion = s.triangleDistortion();
+  const n = tri.length / 3;
+  const position = new Float32Array(9 * n);
+  const normal = new Float32Array(9 * n);
+  const cornerDistortion = new Float32Array(3 * n);
+  for (let t = 0; t < n; t++) {
+    const a = 3 * tri[3 * t], b = 3 * tri[3 * t + 1], c = 3 * tri[3 * t + 2];
+    const o = 9 * t;
+    for (let k = 0; k < 3; k++) {
+      position[o + k] = pos[a + k];
+      position[o + 3 + k] = pos[b + k];
+      position[o + 6 + k] = pos[c + k];
+    }
+    const ux = pos[b] - pos[a], uy = pos[b + 1] - pos[a + 1], uz = pos[b + 2] - pos[a + 2];
+    const vx = pos[c] - pos[a], vy = pos[c + 1] - pos[a + 1], vz = pos[c + 2] - pos[a + 2];
+    let nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    const len = Math.hypot(nx, ny, nz) || 1;
+    nx /= len; ny /= len; nz /= len;
+    for (let k = 0; k < 3; k++) {
+      normal[o + 3 * k] = nx;
+      normal[o + 3 * k + 1] = ny;
+      normal[o + 3 * k + 2] = nz;
+    }
+    cornerDistortion[3 * t] = cornerDistortion[3 * t + 1] = cornerDistortion[3 * t + 2] = distortion[t];
+  }
+  return { triangles: n, position, normal, uv, face, distortion, cornerDistortion };
+}
 
 // Set before anything is awaited: messages that arrive while the wasm is still being
 // instantiated would otherwise be lost.

@@ -9,6 +9,7 @@
 pub mod anderson;
 pub mod chart;
 pub mod cut;
+pub mod input_uv;
 pub mod system;
 pub mod transition;
 
@@ -169,8 +170,10 @@ impl ParamSession {
         Ok(session)
     }
 
-    /// Node positions in every chart, and the transitions across every curve.
-    fn frames(&self) -> (NodePositions, Vec<Affine>) {
+    /// Node positions in every chart, and the transitions across every curve: curve `c`'s
+    /// maps the chart of the face on its left to the chart of the face on its right (eq. 4;
+    /// the identity for boundary pieces).
+    pub fn frames(&self) -> (NodePositions, Vec<Affine>) {
         let nodes: NodePositions = self
             .domains
             .iter()
@@ -335,6 +338,21 @@ impl ParamSession {
         }
     }
 
+    /// ‖JᵀJ − I‖²_F (eq. 7) of every refined triangle in the latest [`solution`](Self::solution),
+    /// in [`cut`](Self::cut)'s triangle order; 0 for triangles of zero area.
+    pub fn triangle_distortion(&self) -> Vec<f64> {
+        self.solution()
+            .corner_uv
+            .iter()
+            .zip(&self.rest)
+            .map(|(uv, &(rest, area))| if area > 0.0 { chart::distortion(*uv, rest) } else { 0.0 })
+            .collect()
+    }
+
+    /// The distortion of the final solve, once [`finish`](Self::finish) ran.
+    pub fn final_distortion(&self) -> Option<Distortion> {
+        self.final_solution.as_ref().map(|(_, d)| *d)
+    }
     pub fn history(&self) -> &[IterationStats] {
         &self.history
     }

@@ -83,3 +83,94 @@ test('layout and parameterization through the wasm API, one iteration per call',
     s.free();
   }
 });
+
+test('a run with chosen chart types, its refined mesh, uv, distortion, charts and OBJ', () => {
+  const s = new Session(read('mushroom.obj'), 'mushroom.obj');
+  try {
+    const layout = readFileSync(new URL('../../www/layouts/mushroom-grid.layout.json', import.meta.url), 'utf8');
+    s.setLayout(layout);
+    const runs = {};
+    for (const chart of ['unit', 'rect', 'quad']) {
+      const first = s.startParam({ chart, align: true });
+      assert.equal(first.iteration, 0);
+      for (let k = 0; k < 3; k++) s.stepParam();
+      const fin = s.finishParam();
+      const charts = s.paramCharts();
+      assert.equal(charts.length, 4);
+      assert.ok(charts.every((c) => c.kind === chart), JSON.stringify(charts.map((c) => c.kind)));
+      for (const c of charts) {
+        assert.deepEqual(c.corners[0], [0, 0]);
+        // Counter-clockwise: positive area.
+        const [p0, p1, p2, p3] = c.corners;
+        const area = ((p1[0] - p0[0]) * (p2[1] - p0[1]) - (p2[0] - p0[0]) * (p1[1] - p0[1]))
+          + ((p2[0] - p0[0]) * (p3[1] - p0[1]) - (p3[0] - p0[0]) * (p2[1] - p0[1]));
+        assert.ok(area > 0);
+      }
+      const pos = s.cutPositions();
+      const tri = s.cutTriangles();
+      const uv = s.cornerUv();
+      const face = s.triangleFace();
+      const dist = s.triangleDistortion();
+      const n = tri.length / 3;
+      assert.ok(pos instanceof Float32Array && pos.length >= 3 * 2337);
+      assert.ok(tri instanceof Uint32Array && n >= 4608);
+      assert.ok(tri.every((i) => i < pos.length / 3));
+      assert.ok(uv instanceof Float32Array && uv.length === 6 * n && uv.every(Number.isFinite));
+      assert.ok(face instanceof Uint32Array && face.length === n && face.every((f) => f < 4));
+      assert.ok(dist instanceof Float32Array && dist.length === n && dist.every((d) => d >= 0));
+      assert.ok(Math.abs(Math.max(...dist) - fin.max) <= 1e-4 * Math.max(1, fin.max), `${Math.max(...dist)} vs ${fin.max}`);
+      const history = s.paramHistory();
+      assert.deepEqual(history.map((h) => h.iteration), [0, 1, 2, 3]);
+      runs[chart] = fin;
+      s.keepParam(chart);
+      assert.throws(() => s.cornerUv(), /start the parameterization first/);
+    }
+    // Paper Figs. 2 and 8: free quadrilaterals fit at least as well as rectangles, which fit
+    // better than unit squares.
+    assert.ok(runs.quad.mean <= runs.rect.mean * 1.001 && runs.rect.mean < runs.unit.mean,
+      JSON.stringify(runs));
+    assert.equal(s.useParam('rect'), true);
+    assert.ok(s.paramCharts().every((c) => c.kind === 'rect'));
+    assert.equal(s.useParam('unit', 'rect'), true);
+    assert.equal(s.useParam('rect', 'unit'), true);
+    assert.equal(s.useParam('nothing'), false);
+
+    const obj = new TextDecoder().decode(s.paramObj());
+    const lines = obj.split('\n');
+    const nv = lines.filter((l) => l.startsWith('v ')).length;
+    const nvt = lines.filter((l) => l.startsWith('vt ')).length;
+    const faces = lines.filter((l) => l.startsWith('f '));
+    assert.equal(nvt, 3 * faces.length);
+    assert.equal(nv, s.cutPositions().length / 3);
+    assert.match(faces[0], /^f \d+\/1 \d+\/2 \d+\/3$/);
+    const sec = s.seconds();
+    assert.ok(sec.load >= 0 && sec.layout >= 0);
+
+    assert.throws(() => s.startParam({ chart: 'hex' }), /unknown chart type 'hex'/);
+  } finally {
+    s.free();
+  }
+});
+
+test('a layout whose patches name a chart keeps it when the run asks for another default', () => {
+  const s = new Session(read('eight.obj'), 'eight.obj');
+  try {
+    const layout = JSON.parse(readFileSync(new URL('../../www/layouts/eight-rims.layout.json', import.meta.url), 'utf8'));
+    layout.patches[1].chart = 'unit';
+    s.setLayout(JSON.stringify(layout));
+    s.startParam({ chart: 'rect' });
+    for (let k = 0; k < 3; k++) s.stepParam();
+    s.finishParam();
+    const kinds = s.paramCharts().map((c) => c.kind);
+    assert.equal(kinds.filter((k) => k === 'unit').length, 1, kinds.join());
+    assert.equal(kinds.filter((k) => k === 'rect').length, kinds.length - 1, kinds.join());
+    s.startParam(null);
+    for (let k = 0; k < 3; k++) s.stepParam();
+    s.finishParam();
+    const asFiled = s.paramCharts().map((c) => c.kind);
+    assert.equal(asFiled.filter((k) => k === 'unit').length, 1, asFiled.join());
+    assert.equal(asFiled.filter((k) => k === 'quad').length, kinds.length - 1, asFiled.join());
+  } finally {
+    s.free();
+  }
+});
