@@ -1,13 +1,26 @@
 //! The `quadlay` command line; see shared/spec/cli.md. Exit status: 0 success, 2 bad input
 //! (one `error:` line on standard error naming the file), 1 anything else.
 
-use quadlay::io::read_mesh_with_resources;
-use quadlay::layout::{build_layout, parse_layout, SurfaceLayout};
+use quadlay::clock::now;
+use quadlay::io::{read_mesh_with_resources, write_glb, write_gltf, write_obj, write_ply, Polygons};
+use quadlay::layout::{build_layout, parse_layout, ChartType, Layout, SurfaceLayout};
+use quadlay::param::{input_uv::input_corner_uv, ParamError, ParamOptions, ParamSession};
+use quadlay::quad::{default_edge_length, extract, quality::measure, QuadError, QuadOptions};
+use quadlay::report::{Report, Seconds};
 use quadlay::summary::{LayoutSummary, MeshSummary};
 use std::path::Path;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage:
+  quadlay remesh MESH --layout LAYOUT [options]
+                              parameterize MESH with the layout and extract a pure quad mesh
+      --edge-length L         target quad edge length (default 1/40 of the bounding-box diagonal)
+      --iterations K          chart-optimization iterations (default 3)
+      --chart quad|rect|unit  chart of faces without a `patches` entry (default: the layout's)
+      --no-align              ignore the layout's alignment tags
+      -o, --out FILE          the quad mesh: .obj, .ply (quads), .glb, .gltf (triangles)
+      --param-out FILE.obj    the input mesh with per-corner parameter coordinates
+      --report FILE.json      the run report (- for standard output)
   quadlay check MESH [--layout LAYOUT]
                               read and validate a mesh (OBJ, PLY, STL, glTF/GLB) and a layout
                               (shared/spec/layout-format.md), print a summary
@@ -37,6 +50,7 @@ fn main() -> ExitCode {
 fn run(args: &[String]) -> Result<(), Failure> {
     match args.first().map(String::as_str) {
         Some("check") => check(&args[1..]),
+        Some("remesh") => remesh(&args[1..]),
         Some("--help") | Some("-h") => {
             println!("{USAGE}");
             Ok(())
@@ -76,9 +90,199 @@ fn check(args: &[String]) -> Result<(), Failure> {
 }
 
 fn load_layout(mesh: &quadlay::mesh::Mesh, path: &str) -> Result<SurfaceLayout, Failure> {
+    place_layout(mesh, path, read_layout(path)?)
+}
+
+fn read_layout(path: &str) -> Result<Layout, Failure> {
     let text = std::fs::read_to_string(path).map_err(|e| bad_input(format!("{path}: cannot read: {e}")))?;
-    let layout = parse_layout(&text).map_err(|e| bad_input(format!("{path}: {e}")))?;
+    parse_layout(&text).map_err(|e| bad_input(format!("{path}: {e}")))
+}
+
+fn place_layout(mesh: &quadlay::mesh::Mesh, path: &str, layout: Layout) -> Result<SurfaceLayout, Failure> {
     build_layout(mesh, &layout).map_err(|e| bad_input(format!("{path}: {e}")))
+}
+
+/// The options of `remesh` (cli.md).
+#[derive(Default)]
+struct RemeshArgs {
+    mesh: Option<String>,
+    layout: Option<String>,
+    edge_length: Option<f64>,
+    iterations: Option<usize>,
+    chart: Option<ChartType>,
+    no_align: bool,
+    out: Option<String>,
+    param_out: Option<String>,
+    report: Option<String>,
+}
+
+/// The kind of quad mesh file an output name asks for, by its extension.
+#[derive(Clone, Copy)]
+enum OutFormat {
+    Obj,
+    Ply,
+    Glb,
+    Gltf,
+}
+
+fn out_format(path: &str) -> Result<OutFormat, Failure> {
+    let lower = path.to_ascii_lowercase();
+    let ext = lower.rsplit('.').next().unwrap_or("");
+    match ext {
+        "obj" => Ok(OutFormat::Obj),
+        "ply" => Ok(OutFormat::Ply),
+        "glb" => Ok(OutFormat::Glb),
+        "gltf" => Ok(OutFormat::Gltf),
+        _ => Err(bad_input(format!("{path}: --out must end in .obj, .ply, .glb or .gltf"))),
+    }
+}
+
+fn parse_remesh(args: &[String]) -> Result<RemeshArgs, Failure> {
+    let mut r = RemeshArgs::default();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let mut value = |name: &str| it.next().cloned().ok_or_else(|| bad_input(format!("{name} needs a value")));
+        match a.as_str() {
+            "--layout" => r.layout = Some(value("--layout")?),
+            "--edge-length" => {
+                let v = value("--edge-length")?;
+                let l: f64 = v.parse().map_err(|_| bad_input(format!("--edge-length: '{v}' is not a number")))?;
+                if !(l.is_finite() && l > 0.0) {
+                    return Err(bad_input(format!("--edge-length must be a positive number, not {v}")));
+                }
+                r.edge_length = Some(l);
+            }
+            "--iterations" => {
+                let v = value("--iterations")?;
+                let k: usize = v.parse().map_err(|_| bad_input(format!("--iterations: '{v}' is not a whole number")))?;
+                if k > 1000 {
+                    return Err(bad_input(format!("--iterations: {k} is more than 1000")));
+                }
+                r.iterations = Some(k);
+            }
+            "--chart" => {
+                let v = value("--chart")?;
+                r.chart = Some(match v.as_str() {
+                    "quad" => ChartType::Quad,
+                    "rect" => ChartType::Rect,
+                    "unit" => ChartType::Unit,
+                    _ => return Err(bad_input(format!("--chart: '{v}' is not one of quad, rect, unit"))),
+                });
+            }
+            "--no-align" => r.no_align = true,
+            "-o" | "--out" => {
+                let v = value("--out")?;
+                out_format(&v)?;
+                r.out = Some(v);
+            }
+            "--param-out" => {
+                let v = value("--param-out")?;
+                if !v.to_ascii_lowercase().ends_with(".obj") {
+                    return Err(bad_input(format!("{v}: --param-out writes OBJ; give a name ending in .obj")));
+                }
+                r.param_out = Some(v);
+            }
+            "--report" => r.report = Some(value("--report")?),
+            _ if a.starts_with('-') => return Err(bad_input(format!("remesh: unknown option '{a}'"))),
+            _ if r.mesh.is_some() => return Err(bad_input("remesh takes one mesh file".into())),
+            _ => r.mesh = Some(a.clone()),
+        }
+    }
+    Ok(r)
+}
+
+/// Writes `bytes` to a temporary name beside `path`, then renames it: readers never see a
+/// half-written file.
+fn write_atomically(path: &str, bytes: &[u8]) -> Result<(), Failure> {
+    let target = Path::new(path);
+    let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = target.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let fail = |e: std::io::Error| Failure { code: 1, message: format!("{path}: cannot write: {e}") };
+    std::fs::write(&tmp, bytes).map_err(fail)?;
+    std::fs::rename(&tmp, target).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        fail(e)
+    })
+}
+
+fn remesh(args: &[String]) -> Result<(), Failure> {
+    let t0 = now();
+    let a = parse_remesh(args)?;
+    let mesh_path = a.mesh.as_deref().ok_or_else(|| bad_input("remesh needs a mesh file".into()))?;
+    let layout_path = a.layout.as_deref().ok_or_else(|| bad_input("remesh needs --layout LAYOUT".into()))?;
+    let loaded = load(mesh_path)?;
+    let mesh = &loaded.mesh;
+    let t_load = now();
+    let mut layout_file = read_layout(layout_path)?;
+    if let Some(chart) = a.chart {
+        layout_file.default_chart = chart;
+    }
+    let layout = place_layout(mesh, layout_path, layout_file)?;
+    let t_layout = now();
+
+    let mut options = ParamOptions::default();
+    options.iterations = a.iterations.unwrap_or(options.iterations);
+    options.align = !a.no_align;
+    let param_failure = |e: ParamError| {
+        let code = if matches!(e, ParamError::Solve(_)) { 1 } else { 2 };
+        Failure { code, message: format!("{mesh_path} with {layout_path}: {e}") }
+    };
+    let mut param = ParamSession::new(mesh, &layout, &options).map_err(param_failure)?;
+    for _ in 0..options.iterations {
+        param.step().map_err(param_failure)?;
+    }
+    param.finish().map_err(param_failure)?;
+    let t_param = now();
+
+    let quad_options = QuadOptions::with_edge_length(a.edge_length.unwrap_or_else(|| default_edge_length(mesh)));
+    // Every extraction error is the input's: a layout that does not make quads, or an
+    // edge length that asks for too many.
+    let (quads, extraction) =
+        extract(&layout, &param, &quad_options).map_err(|e: QuadError| bad_input(format!("{layout_path}: {e}")))?;
+    let t_mesh = now();
+    let quality = measure(mesh, &quads);
+    let seconds = Seconds {
+        load: t_load - t0,
+        layout: t_layout - t_load,
+        parameterize: t_param - t_layout,
+        mesh: t_mesh - t_param,
+        total: now() - t0,
+    };
+    let report = Report::new(mesh, &layout, &param, &quality, &extraction.counts, seconds);
+
+    let faces: Vec<u32> = quads.quads.iter().flatten().copied().collect();
+    if let Some(out) = &a.out {
+        let polygons = Polygons { positions: &quads.positions, faces: &faces, arity: 4 };
+        let bytes = match out_format(out)? {
+            OutFormat::Obj => write_obj(polygons, None),
+            OutFormat::Ply => write_ply(polygons),
+            OutFormat::Glb => write_glb(polygons),
+            OutFormat::Gltf => write_gltf(polygons),
+        };
+        write_atomically(out, &bytes)?;
+    }
+    if let Some(out) = &a.param_out {
+        let uv: Vec<[f64; 2]> = input_corner_uv(mesh, &layout, &param).into_iter().flatten().collect();
+        let tris: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
+        write_atomically(out, &write_obj(Polygons { positions: mesh.positions(), faces: &tris, arity: 3 }, Some(&uv)))?;
+    }
+    let json = serde_json::to_string_pretty(&report).map_err(|e| Failure { code: 1, message: e.to_string() })?;
+    match a.report.as_deref() {
+        Some("-") => println!("{json}"),
+        Some(path) => write_atomically(path, format!("{json}\n").as_bytes())?,
+        None => {}
+    }
+    if a.report.as_deref() != Some("-") {
+        let q = &report.quads;
+        let p = &report.parameterization;
+        println!(
+            "{} quads, {} vertices ({} irregular); distortion {:.4} (max {:.3}, {} flipped triangles); \
+             Hausdorff {:.3}% of the diagonal; {:.2} s",
+            q.faces, q.vertices, q.irregular_vertices, p.distortion_mean, p.distortion_max, p.flipped_triangles,
+            100.0 * q.hausdorff, seconds.total
+        );
+    }
+    Ok(())
 }
 
 fn load(path: &str) -> Result<quadlay::io::LoadedMesh, Failure> {

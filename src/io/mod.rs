@@ -137,5 +137,5 @@ pub fn read_mesh_with_resources(
     Ok(LoadedMesh { mesh: built.mesh, repairs: built.repairs, format })
 }
 
-pub use write::{write_glb, write_obj, write_ply, Polygons};
+pub use write::{write_glb, write_gltf, write_obj, write_ply, Polygons};
 mod write;

@@ -80,6 +80,37 @@ pub fn write_ply(mesh: Polygons) -> Vec<u8> {
 
 /// GLB (binary glTF 2.0): one mesh, one triangle primitive, float positions, u32 indices.
 pub fn write_glb(mesh: Polygons) -> Vec<u8> {
+    let (json, bin) = gltf_parts(mesh);
+    let mut json = serde_json::to_vec(&json).unwrap_or_default();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    out
+}
+
+/// glTF 2.0 as one JSON file, its buffer embedded as a base64 data URI (same content as
+/// [`write_glb`]).
+pub fn write_gltf(mesh: Polygons) -> Vec<u8> {
+    use base64::Engine;
+    let (mut json, bin) = gltf_parts(mesh);
+    let uri = format!("data:application/octet-stream;base64,{}", base64::engine::general_purpose::STANDARD.encode(&bin));
+    json["buffers"][0]["uri"] = serde_json::Value::String(uri);
+    serde_json::to_vec_pretty(&json).unwrap_or_default()
+}
+
+/// The glTF document and its binary buffer (positions, then triangle indices).
+fn gltf_parts(mesh: Polygons) -> (serde_json::Value, Vec<u8>) {
     let tris = mesh.triangles();
     let mut bin = Vec::with_capacity(mesh.positions.len() * 12 + tris.len() * 4);
     let mut lo = [f32::INFINITY; 3];
@@ -117,22 +148,7 @@ pub fn write_glb(mesh: Polygons) -> Vec<u8> {
             { "bufferView": 1, "componentType": 5125, "count": tris.len(), "type": "SCALAR" }
         ]
     });
-    let mut json = serde_json::to_vec(&json).unwrap_or_default();
-    while json.len() % 4 != 0 {
-        json.push(b' ');
-    }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&json);
-    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
-    out
+    (json, bin)
 }
 
 #[cfg(test)]
@@ -159,7 +175,8 @@ mod tests {
         let obj = write_obj(quads(), None);
         let ply = write_ply(quads());
         let glb = write_glb(quads());
-        for (bytes, name) in [(obj, "a.obj"), (ply, "a.ply"), (glb, "a.glb")] {
+        let gltf = write_gltf(quads());
+        for (bytes, name) in [(obj, "a.obj"), (ply, "a.ply"), (glb, "a.glb"), (gltf, "a.gltf")] {
             let m = read_mesh(&bytes, name).unwrap().mesh;
             assert_eq!((m.n_vertices(), m.n_faces()), (6, 4), "{name}");
             assert_eq!(m.position(4)[2], 0.5, "{name}");

@@ -9,6 +9,7 @@
 pub mod anderson;
 pub mod chart;
 pub mod cut;
+pub mod input_uv;
 pub mod system;
 pub mod transition;
 
@@ -169,8 +170,10 @@ impl ParamSession {
         Ok(session)
     }
 
-    /// Node positions in every chart, and the transitions across every curve.
-    fn frames(&self) -> (NodePositions, Vec<Affine>) {
+    /// Node positions in every chart, and the transitions across every curve: curve `c`'s
+    /// maps the chart of the face on its left to the chart of the face on its right (eq. 4;
+    /// the identity for boundary pieces).
+    pub fn frames(&self) -> (NodePositions, Vec<Affine>) {
         let nodes: NodePositions = self
             .domains
             .iter()
@@ -346,6 +349,10 @@ impl ParamSession {
             .collect()
     }
 
+    /// The distortion of the final solve, once [`finish`](Self::finish) ran.
+    pub fn final_distortion(&self) -> Option<Distortion> {
+        self.final_solution.as_ref().map(|(_, d)| *d)
+    }
     pub fn history(&self) -> &[IterationStats] {
         &self.history
     }

@@ -1,7 +1,20 @@
 //! Quad mesh extraction (paper Section 4): sample counts per edge piece that agree on
 //! opposite chart sides, a grid per chart, grid points mapped back to the surface.
 
-use crate::mesh::NONE;
+pub mod closest;
+pub mod quality;
+
+pub mod counts;
+pub mod locate;
+
+use crate::layout::SurfaceLayout;
+use crate::mesh::geometry::{norm, sub};
+use crate::mesh::{Mesh, NONE};
+use crate::param::transition::Affine;
+use crate::param::ParamSession;
+use counts::{sample_counts, CountError, Equation};
+use locate::{ChartIndex, Hit};
+use std::fmt;
 
 /// A pure quad mesh, welded: samples on layout edges and nodes are shared by the faces on
 /// both sides.
@@ -19,4 +32,319 @@ impl QuadMesh {
     pub fn node_vertices(&self) -> impl Iterator<Item = u32> + '_ {
         (0..self.vertex_node.len() as u32).filter(|&v| self.vertex_node[v as usize] != NONE)
     }
+}
+
+/// Settings of the extraction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct QuadOptions {
+    /// Target quad edge length in the mesh's units. Default (via [`QuadOptions::for_mesh`]):
+    /// 1/40 of the bounding-box diagonal.
+    pub edge_length: f64,
+}
+
+impl QuadOptions {
+    /// The default options for `mesh`.
+    pub fn for_mesh(mesh: &Mesh) -> QuadOptions {
+        QuadOptions { edge_length: default_edge_length(mesh) }
+    }
+    pub fn with_edge_length(edge_length: f64) -> QuadOptions {
+        QuadOptions { edge_length }
+    }
+}
+
+/// 1/40 of the bounding-box diagonal of the mesh.
+pub fn default_edge_length(mesh: &Mesh) -> f64 {
+    let (lo, hi) = crate::mesh::geometry::bounding_box(mesh);
+    norm(sub(hi, lo)) / 40.0
+}
+
+/// More quads than this is taken for a mistaken edge length, not a wish.
+pub const MAX_QUADS: usize = 20_000_000;
+
+/// Why no quad mesh came out.
+#[derive(Debug, Clone, PartialEq)]
+pub enum QuadError {
+    /// The edge length is not a positive finite number.
+    EdgeLength(f64),
+    /// The sample counts cannot be made consistent; `pieces` names the curves involved
+    /// (`edges[3]`, `boundary loop 0`).
+    Counts { error: CountError, pieces: Vec<String> },
+    /// The edge length asks for more than [`MAX_QUADS`] quads.
+    TooMany { quads: usize },
+}
+
+impl fmt::Display for QuadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            QuadError::EdgeLength(l) => write!(f, "the edge length must be a positive number, not {l}"),
+            QuadError::Counts { error: CountError::Infeasible { .. }, pieces } => write!(
+                f,
+                "the layout does not make quads: opposite sides of its faces cannot get equal numbers of segments \
+                 unless {} get fewer than one; move or remove a T-vertex there",
+                pieces.join(", ")
+            ),
+            QuadError::Counts { error, .. } => write!(f, "{error}"),
+            QuadError::TooMany { quads } => write!(
+                f,
+                "the edge length asks for {quads} quads (more than {MAX_QUADS}); choose a longer edge length"
+            ),
+        }
+    }
+}
+
+/// The equations of Section 4: per face, side 0 against side 2 and side 1 against side 3.
+pub fn count_equations(layout: &SurfaceLayout) -> Vec<Equation> {
+    let mut out = Vec::with_capacity(2 * layout.faces.len());
+    for f in &layout.faces {
+        for s in 0..2 {
+            let mut eq: Equation = f.side(s).iter().map(|d| (d.curve, 1)).collect();
+            eq.extend(f.side(s + 2).iter().map(|d| (d.curve, -1)));
+            out.push(eq);
+        }
+    }
+    out
+}
+
+/// Maps chart points of one face back to the surface.
+struct BackMap<'a> {
+    param: &'a ParamSession,
+    index: Vec<ChartIndex>,
+    transitions: Vec<Affine>,
+    sides: Vec<[u32; 2]>,
+    /// Grid points found in no triangle of their chart or its neighbours (moved onto the
+    /// nearest triangle).
+    outside: usize,
+}
+
+/// Relative tolerance of point location: points on a chart side count as inside.
+const ON_SIDE: f64 = 1e-9;
+
+impl BackMap<'_> {
+    fn position(&self, hit: Hit) -> [f64; 3] {
+        let cut = self.param.cut();
+        let t = cut.triangles[hit.triangle as usize];
+        let mut p = [0.0; 3];
+        for k in 0..3 {
+            let q = cut.positions[t[k] as usize];
+            for i in 0..3 {
+                p[i] += hit.bary[k] * q[i];
+            }
+        }
+        p
+    }
+
+    /// The surface point at chart point `p` of `face`. Where the face's triangles do not
+    /// cover `p` (next to a side that is not aligned, the side is straight in the chart but
+    /// the curve is not) the point lies in a neighbour's triangles: `near` lists the face's
+    /// pieces by distance from `p`, and we look across them through their transitions.
+    fn surface_point(&mut self, face: u32, p: [f64; 2], near: &[u32]) -> [f64; 3] {
+        if let Some(hit) = self.index[face as usize].locate(p, ON_SIDE) {
+            return self.position(hit);
+        }
+        for &c in near {
+            let [l, r] = self.sides[c as usize];
+            let (other, map) = if l == face { (r, Some(self.transitions[c as usize])) } else { (l, self.transitions[c as usize].inverse()) };
+            let (Some(map), true) = (map, other != NONE) else { continue };
+            if let Some(hit) = self.index[other as usize].locate(map.apply(p), ON_SIDE) {
+                return self.position(hit);
+            }
+        }
+        self.outside += 1;
+        match self.index[face as usize].nearest(p) {
+            Some(hit) => self.position(hit),
+            None => [f64::NAN; 3],
+        }
+    }
+}
+
+/// Distance from `p` to the segment `a b` in the plane.
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    let s = if len2 > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    ((a[0] + s * d[0] - p[0]).powi(2) + (a[1] + s * d[1] - p[1]).powi(2)).sqrt()
+}
+
+/// The point where line `a b` meets line `c d` (grid lines of a convex chart always meet).
+fn intersect(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> [f64; 2] {
+    let r = [b[0] - a[0], b[1] - a[1]];
+    let s = [d[0] - c[0], d[1] - c[1]];
+    let den = r[0] * s[1] - r[1] * s[0];
+    if den.abs() < 1e-300 {
+        return [(a[0] + b[0] + c[0] + d[0]) / 4.0, (a[1] + b[1] + c[1] + d[1]) / 4.0];
+    }
+    let t = ((c[0] - a[0]) * s[1] - (c[1] - a[1]) * s[0]) / den;
+    [a[0] + t * r[0], a[1] + t * r[1]]
+}
+
+/// A sample on a face's side: its vertex and its chart position.
+type Sample = (u32, [f64; 2]);
+
+/// The statistics of an extraction.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Extraction {
+    /// Segments per layout curve.
+    pub counts: Vec<u32>,
+    /// Grid points that fell outside every triangle of their chart and its neighbours and
+    /// were moved onto the nearest one (a sign of flipped or folded triangles).
+    pub outside_points: usize,
+}
+
+/// Extracts the quad mesh of a finished parameterization (paper Section 4).
+///
+/// Every curve gets a sample count ([`counts`]); each face's grid joins the samples of
+/// opposite sides; grid points are mapped back to the surface through the triangles
+/// parameterized in the face's chart, or in a neighbour's across the nearest side. Samples
+/// on curves and nodes have one vertex each, shared by both faces: the mesh is welded by
+/// construction.
+///
+/// # Errors
+/// [`QuadError`] for a bad edge length, a layout whose counts cannot agree, or a mesh of
+/// more than [`MAX_QUADS`] quads.
+pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptions) -> Result<(QuadMesh, Extraction), QuadError> {
+    let h = options.edge_length;
+    if !(h.is_finite() && h > 0.0) {
+        return Err(QuadError::EdgeLength(h));
+    }
+    let desired: Vec<f64> = layout.curves.iter().map(|c| c.curve.length / h).collect();
+    let counts = sample_counts(&desired, &count_equations(layout)).map_err(|error| {
+        let pieces = match &error {
+            CountError::Infeasible { pieces_at_one } => pieces_at_one.clone(),
+            CountError::Fractional { piece } => vec![*piece],
+        };
+        QuadError::Counts { error, pieces: pieces.iter().map(|&c| layout.curves[c as usize].source.to_string()).collect() }
+    })?;
+    let quads: usize = layout
+        .faces
+        .iter()
+        .map(|f| {
+            let n: u32 = f.side(0).iter().map(|d| counts[d.curve as usize]).sum();
+            let m: u32 = f.side(1).iter().map(|d| counts[d.curve as usize]).sum();
+            n as usize * m as usize
+        })
+        .sum();
+    if quads > MAX_QUADS {
+        return Err(QuadError::TooMany { quads });
+    }
+
+    let cut = param.cut();
+    let solution = param.solution();
+    let (nodes, transitions) = param.frames();
+    let mut per_face: Vec<Vec<(u32, [[f64; 2]; 3])>> = vec![Vec::new(); layout.faces.len()];
+    for (t, uv) in solution.corner_uv.iter().enumerate() {
+        per_face[cut.triangle_face[t] as usize].push((t as u32, *uv));
+    }
+    let mut map = BackMap {
+        param,
+        index: per_face.into_iter().map(ChartIndex::new).collect(),
+        transitions,
+        sides: crate::param::cut::curve_sides(layout),
+        outside: 0,
+    };
+    let node_at = |f: usize, n: u32| nodes[f].get(&n).copied().unwrap_or([f64::NAN; 2]);
+    let pieces_by_distance = |f: usize, p: [f64; 2]| -> Vec<u32> {
+        let face = &layout.faces[f];
+        let mut by: Vec<(f64, u32)> = face
+            .pieces
+            .iter()
+            .enumerate()
+            .map(|(k, d)| {
+                let (a, b) = (node_at(f, face.nodes[k]), node_at(f, face.nodes[(k + 1) % face.nodes.len()]));
+                (segment_distance(p, a, b), d.curve)
+            })
+            .collect();
+        by.sort_by(|x, y| x.0.total_cmp(&y.0));
+        by.into_iter().map(|(_, c)| c).collect()
+    };
+
+    let mut mesh = QuadMesh::default();
+    // Nodes: their own mesh vertex.
+    let node_vertex: Vec<u32> = layout
+        .node_vertex
+        .iter()
+        .enumerate()
+        .map(|(n, &v)| {
+            mesh.positions.push(cut.positions[v as usize]);
+            mesh.vertex_node.push(n as u32);
+            (mesh.positions.len() - 1) as u32
+        })
+        .collect();
+    // Curve samples, placed in the chart of the face on the curve's left.
+    let mut first_sample = Vec::with_capacity(layout.curves.len());
+    for (c, lc) in layout.curves.iter().enumerate() {
+        first_sample.push(mesh.positions.len() as u32);
+        let f = map.sides[c][0] as usize;
+        let (a, b) = (node_at(f, lc.nodes[0]), node_at(f, lc.nodes[1]));
+        let k = counts[c];
+        for j in 1..k {
+            let s = j as f64 / k as f64;
+            let p = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])];
+            let near = pieces_by_distance(f, p);
+            mesh.positions.push(map.surface_point(f as u32, p, &near));
+            mesh.vertex_node.push(NONE);
+        }
+    }
+    let curve_sample = |c: usize, j: u32| -> u32 {
+        let lc = &layout.curves[c];
+        if j == 0 {
+            node_vertex[lc.nodes[0] as usize]
+        } else if j == counts[c] {
+            node_vertex[lc.nodes[1] as usize]
+        } else {
+            first_sample[c] + j - 1
+        }
+    };
+
+    for (f, face) in layout.faces.iter().enumerate() {
+        // The samples of each side, from corner s to corner s + 1.
+        let sides: Vec<Vec<Sample>> = (0..4)
+            .map(|s| {
+                let mut out: Vec<Sample> = Vec::new();
+                let first = face.corners[s];
+                for (k, d) in face.side(s).iter().enumerate() {
+                    let (a, b) = (node_at(f, face.nodes[first + k]), node_at(f, face.nodes[(first + k + 1) % face.nodes.len()]));
+                    let n = counts[d.curve as usize];
+                    for j in usize::from(k > 0) as u32..=n {
+                        let along = if d.forward { j } else { n - j };
+                        let t = j as f64 / n as f64;
+                        out.push((curve_sample(d.curve as usize, along), [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]));
+                    }
+                }
+                out
+            })
+            .collect();
+        let (n, m) = (sides[0].len() - 1, sides[1].len() - 1);
+        debug_assert_eq!((n, m), (sides[2].len() - 1, sides[3].len() - 1));
+        // Interior grid points: where the line between opposite samples of sides 0 and 2
+        // meets the line between those of sides 1 and 3.
+        let interior = mesh.positions.len() as u32;
+        for j in 1..m {
+            for i in 1..n {
+                let p = intersect(sides[0][i].1, sides[2][n - i].1, sides[3][m - j].1, sides[1][j].1);
+                let near = pieces_by_distance(f, p);
+                mesh.positions.push(map.surface_point(f as u32, p, &near));
+                mesh.vertex_node.push(NONE);
+            }
+        }
+        let id = |i: usize, j: usize| -> u32 {
+            if j == 0 {
+                sides[0][i].0
+            } else if i == n {
+                sides[1][j].0
+            } else if j == m {
+                sides[2][n - i].0
+            } else if i == 0 {
+                sides[3][m - j].0
+            } else {
+                interior + ((j - 1) * (n - 1) + (i - 1)) as u32
+            }
+        };
+        for j in 0..m {
+            for i in 0..n {
+                mesh.quads.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+    }
+    Ok((mesh, Extraction { counts, outside_points: map.outside }))
 }

@@ -1,0 +1,171 @@
+//! Point location among the triangles of one chart (method-notes §9): a uniform grid over
+//! the triangles' parameter coordinates, so mapping a grid point back to the surface costs
+//! a few barycentric tests instead of a scan of the chart.
+
+/// Triangles of one chart, bucketed by their bounding boxes in parameter space.
+pub struct ChartIndex {
+    /// Per entry: the triangle's id (the caller's) and its three corners in the chart.
+    triangles: Vec<(u32, [[f64; 2]; 3])>,
+    origin: [f64; 2],
+    cell: f64,
+    size: [usize; 2],
+    /// Per cell: positions in `triangles`.
+    cells: Vec<Vec<u32>>,
+}
+
+/// A point inside (or on) a triangle: its id and barycentric coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub triangle: u32,
+    pub bary: [f64; 3],
+}
+
+/// Barycentric coordinates of `p` in triangle `t`; `None` for a triangle without area.
+fn barycentric(t: &[[f64; 2]; 3], p: [f64; 2]) -> Option<[f64; 3]> {
+    let (a, b, c) = (t[0], t[1], t[2]);
+    let det = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let scale = (b[0] - a[0]).abs() + (b[1] - a[1]).abs() + (c[0] - a[0]).abs() + (c[1] - a[1]).abs();
+    if det.abs() <= 1e-14 * scale * scale {
+        return None;
+    }
+    let l1 = ((p[0] - a[0]) * (c[1] - a[1]) - (p[1] - a[1]) * (c[0] - a[0])) / det;
+    let l2 = ((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / det;
+    Some([1.0 - l1 - l2, l1, l2])
+}
+
+/// `bary` moved onto the triangle: negative weights (rounding, or a point just outside)
+/// set to zero, so a point on a side stays on that side (mesh boundaries stay boundaries).
+fn clamp(bary: [f64; 3]) -> [f64; 3] {
+    let b = bary.map(|x| x.max(0.0));
+    let s = b[0] + b[1] + b[2];
+    if s > 0.0 {
+        b.map(|x| x / s)
+    } else {
+        [1.0 / 3.0; 3]
+    }
+}
+
+/// The point of the triangle nearest to `p` in the plane (`p` itself inside).
+fn closest(t: &[[f64; 2]; 3], p: [f64; 2]) -> [f64; 2] {
+    if barycentric(t, p).is_some_and(|b| b.iter().all(|&x| x >= 0.0)) {
+        return p;
+    }
+    let on_side = |k: usize| {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len2 = d[0] * d[0] + d[1] * d[1];
+        let s = if len2 > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        [a[0] + s * d[0], a[1] + s * d[1]]
+    };
+    let d2 = |q: [f64; 2]| (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
+    (0..3).map(on_side).min_by(|a, b| d2(*a).total_cmp(&d2(*b))).unwrap_or(p)
+}
+
+impl ChartIndex {
+    /// Indexes `triangles` (id, corners in the chart). About two triangles per cell.
+    pub fn new(triangles: Vec<(u32, [[f64; 2]; 3])>) -> ChartIndex {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for (_, t) in &triangles {
+            for p in t {
+                for k in 0..2 {
+                    if p[k].is_finite() {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                }
+            }
+        }
+        if lo[0] > hi[0] || lo[1] > hi[1] {
+            return ChartIndex { triangles: Vec::new(), origin: [0.0; 2], cell: 1.0, size: [1, 1], cells: vec![Vec::new()] };
+        }
+        let extent = [(hi[0] - lo[0]).max(1e-300), (hi[1] - lo[1]).max(1e-300)];
+        let target = (triangles.len() as f64 / 2.0).max(1.0);
+        let cell = ((extent[0] * extent[1] / target).sqrt()).max(extent[0].max(extent[1]) / 2048.0);
+        let size = [((extent[0] / cell) as usize + 1).min(2048), ((extent[1] / cell) as usize + 1).min(2048)];
+        let mut index = ChartIndex { triangles, origin: lo, cell, size, cells: vec![Vec::new(); size[0] * size[1]] };
+        for (i, (_, t)) in index.triangles.iter().enumerate() {
+            if t.iter().flatten().any(|x| !x.is_finite()) {
+                continue;
+            }
+            let (a, b) = (index.cell_of(t.iter().fold([f64::INFINITY; 2], |m, p| [m[0].min(p[0]), m[1].min(p[1])])),
+                index.cell_of(t.iter().fold([f64::NEG_INFINITY; 2], |m, p| [m[0].max(p[0]), m[1].max(p[1])])));
+            for y in a[1]..=b[1] {
+                for x in a[0]..=b[0] {
+                    index.cells[y * size[0] + x].push(i as u32);
+                }
+            }
+        }
+        index
+    }
+
+    fn cell_of(&self, p: [f64; 2]) -> [usize; 2] {
+        let c = |k: usize| (((p[k] - self.origin[k]) / self.cell).floor().max(0.0) as usize).min(self.size[k] - 1);
+        [c(0), c(1)]
+    }
+
+    /// The triangle containing `p`, allowing `tolerance` (relative to the triangle) outside
+    /// its sides; the one `p` lies deepest in if several do.
+    pub fn locate(&self, p: [f64; 2], tolerance: f64) -> Option<Hit> {
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            return None;
+        }
+        let c = self.cell_of(p);
+        let mut best: Option<(f64, Hit)> = None;
+        for &i in &self.cells[c[1] * self.size[0] + c[0]] {
+            let (id, t) = &self.triangles[i as usize];
+            let Some(bary) = barycentric(t, p) else { continue };
+            let depth = bary[0].min(bary[1]).min(bary[2]);
+            if depth >= -tolerance && best.is_none_or(|(d, _)| depth > d) {
+                best = Some((depth, Hit { triangle: *id, bary: clamp(bary) }));
+            }
+        }
+        best.map(|(_, hit)| hit)
+    }
+
+    /// The triangle nearest to `p` in the chart, `p` moved onto it; `None` for an empty chart.
+    pub fn nearest(&self, p: [f64; 2]) -> Option<Hit> {
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            return None;
+        }
+        let d2 = |q: [f64; 2]| (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
+        self.triangles
+            .iter()
+            .filter_map(|(id, t)| {
+                let q = closest(t, p);
+                barycentric(t, q).map(|b| (d2(q), Hit { triangle: *id, bary: clamp(b) }))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, hit)| hit)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_the_triangle_of_points_of_a_grid() {
+        // Two triangles per unit cell of a 10×10 grid.
+        let mut tris = Vec::new();
+        for y in 0..10 {
+            for x in 0..10 {
+                let (x, y) = (x as f64, y as f64);
+                tris.push((tris.len() as u32, [[x, y], [x + 1.0, y], [x + 1.0, y + 1.0]]));
+                tris.push((tris.len() as u32, [[x, y], [x + 1.0, y + 1.0], [x, y + 1.0]]));
+            }
+        }
+        let index = ChartIndex::new(tris.clone());
+        for p in [[0.3, 0.1], [9.9, 9.95], [5.5, 2.25], [0.0, 0.0], [10.0, 10.0], [10.0, 3.5]] {
+            let hit = index.locate(p, 1e-9).unwrap();
+            let t = tris[hit.triangle as usize].1;
+            let q = [0, 1].map(|k| hit.bary[0] * t[0][k] + hit.bary[1] * t[1][k] + hit.bary[2] * t[2][k]);
+            assert!((q[0] - p[0]).abs() < 1e-12 && (q[1] - p[1]).abs() < 1e-12, "{p:?} → {q:?}");
+        }
+        assert!(index.locate([10.5, 3.0], 1e-9).is_none());
+        assert!(index.locate([f64::NAN, 3.0], 1e-9).is_none());
+        let near = index.nearest([10.5, 3.0]).unwrap();
+        let t = tris[near.triangle as usize].1;
+        let q = [0, 1].map(|k| near.bary[0] * t[0][k] + near.bary[1] * t[1][k] + near.bary[2] * t[2][k]);
+        assert!((q[0] - 10.0).abs() < 1e-12 && (q[1] - 3.0).abs() < 1e-12, "{q:?}");
+    }
+}
