@@ -8,12 +8,26 @@
 //            null if a newer load overtook it
 //   layout   the shown layout's summary (protocol.js, SET_LAYOUT), null without one
 //   loadLayout(url | File) → Promise<layout summary>; rejects with the layout's error
+//   editor   the layout editor (editor.js), null without WebGL:
+//     doc            a copy of the layout document being edited (format v1)
+//     mode, setMode('view'|'node'|'edge'|'bend'|'align'|'chart'|'delete')
+//     error          the core's verdict on the document (e.g. 'edges[3]: ...'), null if valid
+//     problem        what the error names: { nodes, edges, patches, vertices, points }
+//     summary        the layout summary while the document is valid, else null
+//     checking       true while the core checks the last edit; settled() → Promise when done
+//     undo(), redo(), canUndo, canRedo; setDoc(doc) records a document as an edit
+//     text() the layout file's text; save() downloads it as NAME.layout.json
+//     offer          the autosaved layout offered for restoring ({ time, doc }) or null
+//     edgePoints(i)  edge i as drawn, [[x,y,z], ...]
+//     screenOf(vertex | [x,y,z]) → { x, y } page pixels (null behind the camera)
+//     pick(x, y)     what a click there hits: { kind: 'node'|'edge'|'via'|'surface', index, vertex }
+//     vertexAt(x, y) the mesh vertex a node placed there snaps to (-1 off the mesh)
 // `?mesh=URL` loads that mesh instead of the first sample, `&layout=URL` a layout on it,
 // `&view=x,y,z` looks from that direction.
 import { CoreClient } from './client.js';
 import { initDropZone } from './dropzone.js';
+import { Editor } from './editor.js';
 import * as panel from './panel.js';
-import { layoutOverlay, faceColors } from './layout-view.js';
 import { SAMPLES } from './samples.js';
 import { Viewer } from './viewer.js';
 
@@ -25,6 +39,10 @@ window.quadlay = quadlay;
 
 const client = new CoreClient();
 const viewer = createViewer();
+const editor = viewer
+  ? new Editor({ viewer, client, viewport: $('viewport'), onChange: (summary) => { quadlay.layout = summary; } })
+  : null;
+quadlay.editor = editor?.api ?? null;
 /** Counts loads, so a load overtaken by a newer one does not overwrite it. */
 let latest = 0;
 
@@ -47,6 +65,7 @@ async function load(source) {
     if (!viewer) throw new Error('this browser cannot show 3D graphics (WebGL 2 is not available)');
     const drawn = viewer.setMesh(mesh);
     viewer.setOverlay(null);
+    editor.setMesh(mesh, name);
     quadlay.layout = null;
     panel.renderLayoutSummary(null);
     panel.hideError();
@@ -84,10 +103,11 @@ async function loadLayout(source) {
   const t0 = performance.now();
   try {
     const text = new TextDecoder().decode(await readBytes(source));
-    const view = await client.setLayout(text);
+    // The editor places it and draws it; a layout the core rejects stays in the editor,
+    // its problem drawn on the mesh, to be fixed there.
+    const view = await editor.open(text, name, { user: source instanceof Blob });
     if (seq !== latest) return null;
-    const overlay = layoutOverlay(view, viewer.radius, viewer.resolution);
-    await viewer.setOverlay(overlay, faceColors(view.vertex_face));
+    await viewer.nextFrame();
     panel.hideError();
     panel.renderLayoutSummary(view.summary, name);
     Object.assign(quadlay, { layout: view.summary, error: null, state: 'ready' });

@@ -125,6 +125,12 @@ export class Viewer {
       });
     }
     if (group) this.overlays.add(group);
+    this.setSurfaceColors(colors);
+    return this.nextFrame();
+  }
+
+  /** The surface's per-vertex colours (rgb per vertex), or the plain surface with null. */
+  setSurfaceColors(colors) {
     if (this.mesh) {
       const geometry = this.mesh.geometry;
       if (colors) geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
@@ -133,7 +139,7 @@ export class Viewer {
       this.material.color.set(colors ? 0xffffff : SURFACE);
       this.material.needsUpdate = true;
     }
-    return this.nextFrame();
+    this.requestRender();
   }
 
   /** The mesh's bounding radius (to size overlays), 1 before a mesh is set. */

@@ -1,0 +1,211 @@
+// The layout document the editor changes (format v1, shared/spec/layout-format.md): pure
+// functions from a document to a new one, never changing their input, and the reading of
+// the core's error text into the entries it names. Keys the editor does not know are kept.
+
+/** An empty layout. */
+export function emptyDoc() {
+  return { format: 'quad-layout', version: 1, nodes: [], edges: [] };
+}
+
+const clone = (doc) => structuredClone(doc);
+
+/**
+ * The document from a layout file's text, or an error naming what is wrong with it as a
+ * document the editor can hold (the core judges everything else).
+ */
+export function parseDoc(text) {
+  let doc;
+  try {
+    doc = JSON.parse(text);
+  } catch (err) {
+    throw new Error(`not valid JSON: ${err.message}`);
+  }
+  if (!doc || typeof doc !== 'object' || Array.isArray(doc)) throw new Error('a layout file is a JSON object');
+  if (!Array.isArray(doc.nodes ?? [])) throw new Error("'nodes' must be a list");
+  if (!Array.isArray(doc.edges ?? [])) throw new Error("'edges' must be a list");
+  if (doc.patches !== undefined && !Array.isArray(doc.patches)) throw new Error("'patches' must be a list");
+  return doc;
+}
+
+/** The layout file's text: format v1, one node, edge or patch per line. */
+export function toText(doc) {
+  const { format = 'quad-layout', version = 1, nodes = [], edges = [], ...rest } = doc;
+  const list = (items) => (items.length ? `[\n${items.map((x) => `  ${JSON.stringify(x)}`).join(',\n')}\n ]` : '[]');
+  const lines = [
+    ` "format": ${JSON.stringify(format)}`,
+    ` "version": ${JSON.stringify(version)}`,
+    ` "nodes": ${list(nodes)}`,
+    ` "edges": ${list(edges)}`,
+  ];
+  for (const [key, value] of Object.entries(rest)) {
+    lines.push(` ${JSON.stringify(key)}: ${Array.isArray(value) ? list(value) : JSON.stringify(value)}`);
+  }
+  return `{\n${lines.join(',\n')}\n}\n`;
+}
+
+/** Adds a node on mesh vertex `vertex`; returns [doc, its index]. */
+export function addNode(doc, vertex) {
+  const next = clone(doc);
+  next.nodes = [...(next.nodes ?? []), { vertex }];
+  return [next, next.nodes.length - 1];
+}
+
+/** Adds the edge a–b (untagged, no waypoints); returns [doc, its index]. */
+export function addEdge(doc, a, b) {
+  const next = clone(doc);
+  next.edges = [...(next.edges ?? []), { nodes: [a, b] }];
+  return [next, next.edges.length - 1];
+}
+
+/** Index of an edge a–b (either way round) without waypoints, or -1. */
+export function findEdge(doc, a, b) {
+  return (doc.edges ?? []).findIndex((e) =>
+    !(e.via?.length) && ((e.nodes?.[0] === a && e.nodes?.[1] === b) || (e.nodes?.[0] === b && e.nodes?.[1] === a)));
+}
+
+/** Removes edge `i`. */
+export function deleteEdge(doc, i) {
+  const next = clone(doc);
+  next.edges = next.edges.filter((_, k) => k !== i);
+  return next;
+}
+
+/** Removes node `n`, its edges and the patches it is a corner of; later nodes move down. */
+export function deleteNode(doc, n) {
+  const next = clone(doc);
+  const renumber = (m) => (m > n ? m - 1 : m);
+  next.nodes = next.nodes.filter((_, k) => k !== n);
+  next.edges = (next.edges ?? [])
+    .filter((e) => !e.nodes?.includes(n))
+    .map((e) => ({ ...e, nodes: e.nodes.map(renumber) }));
+  if (next.patches) {
+    next.patches = next.patches
+      .filter((p) => !p.corners?.includes(n))
+      .map((p) => ({ ...p, corners: p.corners.map(renumber) }));
+  }
+  return next;
+}
+
+/** Tags edge `i` for alignment, or untags it. */
+export function toggleAlign(doc, i) {
+  const next = clone(doc);
+  const e = next.edges[i];
+  if (e.align) delete e.align;
+  else e.align = true;
+  return next;
+}
+
+/**
+ * Splits edge `i` at a new node on `vertex` (a T-vertex where the faces beside it have four
+ * corners elsewhere): a–b becomes a–new (index i) and new–b (appended), both keeping the tag;
+ * the waypoints before `viaSplit` stay with the first half, the others go to the second.
+ * Returns [doc, the new node's index].
+ */
+export function splitEdge(doc, i, vertex, viaSplit = 0) {
+  let [next, n] = addNode(doc, vertex);
+  const e = next.edges[i];
+  const [a, b] = e.nodes;
+  const via = e.via ?? [];
+  const first = { ...e, nodes: [a, n] };
+  const second = { ...e, nodes: [n, b] };
+  delete first.via;
+  delete second.via;
+  if (via.slice(0, viaSplit).length) first.via = via.slice(0, viaSplit);
+  if (via.slice(viaSplit).length) second.via = via.slice(viaSplit);
+  next.edges[i] = first;
+  next.edges.push(second);
+  return [next, n];
+}
+
+/** Inserts waypoint `{vertex}` into edge `i` at position `k` of its `via`. */
+export function insertVia(doc, i, k, vertex) {
+  const next = clone(doc);
+  const e = next.edges[i];
+  e.via = [...(e.via ?? [])];
+  e.via.splice(k, 0, { vertex });
+  return next;
+}
+
+/** Moves waypoint `k` of edge `i` to mesh vertex `vertex`. */
+export function moveVia(doc, i, k, vertex) {
+  const next = clone(doc);
+  next.edges[i].via[k] = { vertex };
+  return next;
+}
+
+/** Removes waypoint `k` of edge `i`. */
+export function deleteVia(doc, i, k) {
+  const next = clone(doc);
+  const e = next.edges[i];
+  e.via = e.via.filter((_, j) => j !== k);
+  if (!e.via.length) delete e.via;
+  return next;
+}
+
+export const CHARTS = ['quad', 'rect', 'unit'];
+
+/** True when `a` and `b` list the same corners in the same cyclic order. */
+function sameCycle(a, b) {
+  if (a.length !== b.length) return false;
+  const s = b.indexOf(a[0]);
+  return s >= 0 && a.every((x, k) => b[(s + k) % b.length] === x);
+}
+
+/** The chart type of the face with corners `corners` (from the layout's summary). */
+export function chartOf(doc, corners) {
+  const entry = (doc.patches ?? []).find((p) => Array.isArray(p.corners) && sameCycle(p.corners, corners));
+  return entry?.chart ?? doc.defaults?.chart ?? 'quad';
+}
+
+/**
+ * Sets the chart type of the face with corners `corners` (counter-clockwise, as the core
+ * reports them). A face whose type is the default needs no `patches` entry: it is removed.
+ */
+export function setChart(doc, corners, chart) {
+  const next = clone(doc);
+  const patches = (next.patches ?? []).filter((p) => !(Array.isArray(p.corners) && sameCycle(p.corners, corners)));
+  const old = (doc.patches ?? []).find((p) => Array.isArray(p.corners) && sameCycle(p.corners, corners));
+  const fallback = next.defaults?.chart ?? 'quad';
+  if (chart !== fallback || (old && Object.keys(old).some((k) => k !== 'corners' && k !== 'chart'))) {
+    patches.push({ ...old, corners: [...corners], chart });
+  }
+  if (patches.length) next.patches = patches;
+  else delete next.patches;
+  return next;
+}
+
+/** Removes `patches[k]`. */
+export function deletePatch(doc, k) {
+  const next = clone(doc);
+  next.patches = next.patches.filter((_, j) => j !== k);
+  if (!next.patches.length) delete next.patches;
+  return next;
+}
+
+/**
+ * What the core's error text names, for drawing it on the mesh:
+ * { nodes, edges, patches, vertices, points } (indices; points as [x, y, z]).
+ * Understands `nodes[i]`, `edges[i]` (also `edges[i].via[k]`), `patches[i]`, "the face with
+ * nodes a, b, c", "(through|with) vertex v" and "at (x, y, z)".
+ */
+export function problemOf(message, doc) {
+  const out = { nodes: new Set(), edges: new Set(), patches: new Set(), vertices: new Set(), points: [] };
+  if (!message) return out;
+  for (const m of message.matchAll(/\b(nodes|edges|patches)\[(\d+)\]/g)) out[m[1]].add(Number(m[2]));
+  const face = /the face with nodes ([\d, ]+)/.exec(message);
+  if (face) {
+    const ids = face[1].split(',').map((s) => Number(s.trim())).filter(Number.isInteger);
+    for (const n of ids) out.nodes.add(n);
+    // The curves between them are the face's sides.
+    (doc?.edges ?? []).forEach((e, i) => {
+      if (ids.includes(e.nodes?.[0]) && ids.includes(e.nodes?.[1])) out.edges.add(i);
+    });
+  }
+  for (const m of message.matchAll(/(?:through|with) vertex (\d+)/g)) out.vertices.add(Number(m[1]));
+  const at = /at \((-?[\d.e+-]+), (-?[\d.e+-]+), (-?[\d.e+-]+)\)/.exec(message);
+  if (at) out.points.push([Number(at[1]), Number(at[2]), Number(at[3])]);
+  for (const p of out.patches) {
+    for (const n of doc?.patches?.[p]?.corners ?? []) out.nodes.add(n);
+  }
+  return out;
+}
