@@ -21,6 +21,7 @@ export class CoreClient {
     this.pending = new Map();
     /** The last mesh and layout the worker accepted, to send again to a fresh worker. */
     this.replay = null;
+    this.listeners = new Set();
   }
 
   /**
@@ -29,11 +30,12 @@ export class CoreClient {
    * @param {string} name the file's name; its extension picks the format
    * @returns {Promise<{summary: object, positions: Float32Array, triangles: Uint32Array}>}
    */
-  load(bytes, name) {
+  load(bytes, name, { quiet = false } = {}) {
     // A copy stays here, so a restarted worker gets the mesh again (see restart()).
     const copy = bytes.slice(0);
     return this.request(MSG.LOAD, { bytes, name }, [bytes]).then((result) => {
       this.replay = { mesh: { bytes: copy, name }, layout: null };
+      if (!quiet) this.emit({ type: 'mesh', name });
       return result;
     });
   }
@@ -43,12 +45,40 @@ export class CoreClient {
    * @param {string} text the layout file (JSON, format v1)
    * @returns {Promise<object>} the LayoutView of protocol.js
    */
-  setLayout(text) {
+  setLayout(text, { quiet = false } = {}) {
     if (this.replay) this.replay.layout = null; // the worker drops its layout first
-    return this.request(MSG.SET_LAYOUT, { text }).then((result) => {
-      if (this.replay) this.replay.layout = text;
-      return result;
-    });
+    return this.request(MSG.SET_LAYOUT, { text }).then(
+      (result) => {
+        if (this.replay) this.replay.layout = text;
+        if (!quiet) this.emit({ type: 'layout', text, view: result });
+        return result;
+      },
+      (err) => {
+        if (!quiet) this.emit({ type: 'layout-error', text, error: err });
+        throw err;
+      },
+    );
+  }
+
+  /**
+   * Calls `listener(event)` after every change of the worker's mesh or layout, whoever asked
+   * for it: { type: 'mesh', name } | { type: 'layout', text, view } |
+   * { type: 'layout-error', text, error } (the worker then has no layout). A new
+   * layout drops the worker's parameterizations. Returns a function that unsubscribes.
+   */
+  onChange(listener) {
+    this.listeners.add(listener);
+    return () => this.listeners.delete(listener);
+  }
+
+  emit(event) {
+    for (const listener of this.listeners) {
+      try {
+        listener(event);
+      } catch (err) {
+        console.error(err);
+      }
+    }
   }
 
   /**
@@ -99,8 +129,8 @@ export class CoreClient {
     if (!replay) return Promise.resolve();
     this.replay = null;
     const mesh = replay.mesh.bytes.slice(0);
-    const loaded = this.load(mesh, replay.mesh.name);
-    const placed = replay.layout == null ? loaded : loaded.then(() => this.setLayout(replay.layout));
+    const loaded = this.load(mesh, replay.mesh.name, { quiet: true });
+    const placed = replay.layout == null ? loaded : loaded.then(() => this.setLayout(replay.layout, { quiet: true }));
     return placed.then(() => {}, () => {});
   }
 

@@ -24,10 +24,18 @@
 //     vertexAt(x, y) the mesh vertex a node placed there snaps to (-1 off the mesh)
 // `?mesh=URL` loads that mesh instead of the first sample, `&layout=URL` a layout on it,
 // `&view=x,y,z` looks from that direction.
+// Shareable links: `?mesh=URL&layout=URL&run=1` loads both and, with `run=1`, solves (and
+// remeshes) at once; `&edge=L` sets the target quad edge length (mesh units; default 1/40 of
+// the bounding-box diagonal), `&chart=quad|rect|unit` the chart type of the faces whose
+// patches entry names none, `&iterations=K` the chart-optimization iterations (default 3).
+// The solve card (solve.js) adds to `window.quadlay`: solve, param, result (the report of
+// cli.md once a run finished), runs, run(), cancel(), compareCharts(), setView(), showRun(),
+// showCharts(), exportFile(), setOptions(); see solve.js's header.
 import { CoreClient } from './client.js';
 import { initDropZone } from './dropzone.js';
 import { Editor } from './editor.js';
 import * as panel from './panel.js';
+import { Solver } from './solve.js';
 import { SAMPLES } from './samples.js';
 import { Viewer } from './viewer.js';
 
@@ -39,6 +47,7 @@ window.quadlay = quadlay;
 
 const client = new CoreClient();
 const viewer = createViewer();
+const solver = viewer ? new Solver({ client, viewer, quadlay, panel }) : null;
 const editor = viewer
   ? new Editor({ viewer, client, viewport: $('viewport'), onChange: (summary) => { quadlay.layout = summary; } })
   : null;
@@ -174,7 +183,7 @@ panel.renderSamples(SAMPLES, (sample) => loadWithLayout(`samples/${sample.file}`
 
 /** Loads a mesh, then (if given) a layout on it; errors are shown on the page. */
 function loadWithLayout(mesh, layout) {
-  load(mesh)
+  return load(mesh)
     .then((summary) => (summary && layout ? loadLayout(layout) : null))
     .catch(() => {});
 }
@@ -227,5 +236,14 @@ window.addEventListener('keydown', (event) => {
 const params = new URLSearchParams(location.search);
 const view = params.get('view')?.split(',').map(Number);
 if (view?.length === 3 && view.every(Number.isFinite)) viewer?.setViewFrom(view);
-if (params.has('mesh')) loadWithLayout(params.get('mesh'), params.get('layout'));
-else loadWithLayout(`samples/${SAMPLES[0].file}`, SAMPLES[0].layout);
+const first = params.has('mesh')
+  ? loadWithLayout(params.get('mesh'), params.get('layout'))
+  : loadWithLayout(`samples/${SAMPLES[0].file}`, SAMPLES[0].layout);
+first.then(() => {
+  solver?.setOptions({
+    edge: Number(params.get('edge')) || undefined,
+    chart: params.get('chart') ?? undefined,
+    iterations: params.get('iterations') ?? undefined,
+  });
+  if (params.get('run') === '1' && quadlay.layout && quadlay.state === 'ready') solver?.run().catch(() => {});
+});

@@ -65,7 +65,7 @@ export const MSG = Object.freeze({
    *           normal: Float32Array (9 per triangle: its flat normal, per corner),
    *           uv: Float32Array (6 per triangle: its corners' uv in its face's chart),
    *           face: Uint32Array (per triangle: its layout face),
-   *           distortion: Float32Array (per triangle: ‖JᵀJ−I‖²),
+   *           triangleDistortion: Float32Array (per triangle: ‖JᵀJ−I‖²),
    *           cornerDistortion: Float32Array (3 per triangle, the same per corner) }
    *         — arrays transferred
    */

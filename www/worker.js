@@ -41,7 +41,7 @@ const handlers = {
     return {
       result: { distortion, history: session.paramHistory(), charts: session.paramCharts(), seconds: session.seconds(), ...view },
       transfer: [view.position.buffer, view.normal.buffer, view.uv.buffer, view.face.buffer,
-        view.distortion.buffer, view.cornerDistortion.buffer],
+        view.triangleDistortion.buffer, view.cornerDistortion.buffer],
     };
   },
   [MSG.PARAM_KEEP]({ name }) {
@@ -101,7 +101,7 @@ function paramView(s) {
     }
     cornerDistortion[3 * t] = cornerDistortion[3 * t + 1] = cornerDistortion[3 * t + 2] = distortion[t];
   }
-  return { triangles: n, position, normal, uv, face, distortion, cornerDistortion };
+  return { triangles: n, position, normal, uv, face, triangleDistortion: distortion, cornerDistortion };
 }
 
 // Set before anything is awaited: messages that arrive while the wasm is still being

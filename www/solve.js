@@ -1,0 +1,523 @@
+// Solving and looking: the "Parameterize & remesh" card. Runs the paper's loop in the
+// worker one message per step (start = initial solve with unit charts, k chart-optimization
+// iterations, finish = the final solve with the user's tags), with a progress bar and Cancel
+// between steps (a long single step is cut short by restarting the worker, which gets the
+// mesh and layout again); shows the result as a checkerboard or a distortion heat map on
+// the surface, the charts in 2D, the three chart types side by side, and offers downloads.
+// The page's thread only ever sets up three.js objects on arrays built in the worker.
+//
+// Adds to `window.quadlay` (see main.js):
+//   solve    { state: 'idle'|'running'|'done'|'cancelled'|'error', step, total, label,
+//              iteration, distortion: { mean, max, flipped }, error, ms }
+//   param    the shown run: { chart, distortion, history, charts: [kind per face],
+//              triangles (of the refined mesh), ms (page time from Solve to drawn) }
+//   result   the report of the last finished run (the CLI's --report JSON, cli.md)
+//   runs     after compareCharts(): { unit, rect, quad } each { distortion, history, ms }
+//   run(options?) → Promise<report>: solve with the card's options, overridden by
+//            { iterations, chart: 'quad'|'rect'|'unit'|'' , align, edge }; rejects on error
+//   cancel() stops the run in progress
+//   compareCharts(options?) → Promise<runs>
+//   setView('surface'|'checker'|'distortion'), showRun('unit'|'rect'|'quad'),
+//   showCharts(bool) → Promise (settles when the chart panel is drawn)
+//   exportFile('param-obj'|'quad-obj'|'quad-ply'|'quad-glb') → Promise<{ name, size }>
+//            (also offered as a download)
+//   setOptions({ iterations, chart, align, edge }) fills the card's fields
+import { CoreError } from './client.js';
+import { ChartPanel } from './chart-panel.js';
+import { download, exportName, EXPORTS } from './export.js';
+import { renderLegend, scaleRange } from './heatmap.js';
+import { ParamView } from './param-view.js';
+
+const $ = (id) => document.getElementById(id);
+const CHARTS = ['unit', 'rect', 'quad'];
+/** After Cancel, how long a step in flight may still take before the worker is restarted. */
+const CANCEL_GRACE_MS = 250;
+
+class Cancelled extends Error {
+  constructor() {
+    super('cancelled');
+    this.name = 'Cancelled';
+  }
+}
+
+export class Solver {
+  /**
+   * @param {{client: import('./client.js').CoreClient, viewer: import('./viewer.js').Viewer,
+   *   quadlay: object, panel: object}} deps
+   */
+  constructor({ client, viewer, quadlay, panel }) {
+    this.client = client;
+    this.viewer = viewer;
+    this.quadlay = quadlay;
+    this.panel = panel;
+    this.view = new ParamView(viewer);
+    this.charts = new ChartPanel();
+    this.legend = document.createElement('div');
+    this.legend.className = 'legend';
+    this.legend.id = 'legend';
+    this.legend.hidden = true;
+    $('viewport').append(this.legend);
+    /** The run in progress: { cancelled, waiting } or null. */
+    this.current = null;
+    /** Shown results by chart type name ('' = the layout's own types), for switching. */
+    this.results = new Map();
+    this.shown = null;
+    this.mode = 'checker';
+    this.layoutReady = false;
+    /** Solve again when the layout changes (set once a run finished on this mesh). */
+    this.autoSolve = false;
+    this.autoTimer = 0;
+    this.layoutSeconds = 0;
+
+    Object.assign(quadlay, {
+      solve: { state: 'idle' },
+      param: null,
+      result: null,
+      runs: null,
+      run: (options) => this.run(options),
+      cancel: () => this.cancel(),
+      compareCharts: (options) => this.compare(options),
+      setView: (mode) => this.setMode(mode),
+      showRun: (name) => this.showRun(name),
+      showCharts: (on = true) => this.showCharts(on),
+      exportFile: (what) => this.exportFile(what),
+      setOptions: (options) => this.setOptions(options),
+    });
+
+    client.onChange((event) => this.onCoreChange(event));
+    this.wire();
+  }
+
+  // ---- controls ------------------------------------------------------------------------
+
+  wire() {
+    $('solve-run').addEventListener('click', () => this.run().catch(() => {}));
+    $('solve-cancel').addEventListener('click', () => this.cancel());
+    $('solve-compare').addEventListener('click', () => this.compare().catch(() => {}));
+    for (const b of document.querySelectorAll('[data-param-view]')) {
+      b.addEventListener('click', () => this.setMode(b.dataset.paramView));
+    }
+    $('charts-toggle').addEventListener('click', () => this.showCharts(!this.charts.visible));
+    this.charts.onToggle = (on) => $('charts-toggle').setAttribute('aria-pressed', String(on));
+    $('quads-toggle').addEventListener('click', () => {
+      const on = $('quads-toggle').getAttribute('aria-pressed') !== 'true';
+      $('quads-toggle').setAttribute('aria-pressed', String(on));
+      this.view.setShowQuads(on);
+    });
+    $('opt-edge').addEventListener('change', () => this.view.setCell(this.edgeLength()));
+    const exports = $('export-buttons');
+    for (const [what, { label }] of Object.entries(EXPORTS)) {
+      const b = document.createElement('button');
+      b.type = 'button';
+      b.className = 'button';
+      b.dataset.export = what;
+      b.textContent = label;
+      b.title = `download ${label}`;
+      b.addEventListener('click', () => this.exportFile(what).catch(() => {}));
+      exports.append(b);
+    }
+  }
+
+  /** The card's options. */
+  options() {
+    const iterations = Math.max(0, Math.min(50, Math.round(Number($('opt-iterations').value) || 0)));
+    return {
+      iterations,
+      chart: $('opt-chart').value || '',
+      align: $('opt-align').checked,
+      edge: this.edgeLength(),
+    };
+  }
+
+  /** Fills the card's fields; unknown or empty values are left alone. */
+  setOptions({ iterations, chart, align, edge } = {}) {
+    if (Number.isFinite(Number(iterations)) && iterations !== null && iterations !== '') $('opt-iterations').value = String(iterations);
+    if (chart !== undefined && ['', 'quad', 'rect', 'unit'].includes(chart ?? '')) $('opt-chart').value = chart ?? '';
+    if (typeof align === 'boolean') $('opt-align').checked = align;
+    if (Number(edge) > 0) {
+      $('opt-edge').value = String(edge);
+      this.view.setCell(this.edgeLength());
+    }
+  }
+
+  /** The target edge length: the field's, else 1/40 of the bounding-box diagonal. */
+  edgeLength() {
+    const typed = Number($('opt-edge').value);
+    if (typed > 0) return typed;
+    return this.defaultEdge();
+  }
+
+  defaultEdge() {
+    const box = this.quadlay.summary?.bounding_box;
+    if (!box) return 1;
+    const [lo, hi] = box;
+    return Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) / 40 || 1;
+  }
+
+  // ---- the worker's mesh and layout change ---------------------------------------------
+
+  onCoreChange(event) {
+    if (event.type === 'mesh') {
+      this.stop('a new mesh');
+      this.autoSolve = false;
+      this.layoutReady = false;
+      this.clearResults();
+      $('opt-edge').value = '';
+      $('solve-card').hidden = true;
+    } else if (event.type === 'layout') {
+      this.layoutReady = true;
+      $('solve-card').hidden = false;
+      $('opt-edge').placeholder = short(this.defaultEdge());
+      const wasRunning = Boolean(this.current);
+      this.stop('the layout changed');
+      this.clearResults();
+      this.setButtons();
+      // A changed layout solves again on the mesh the worker has (nothing reloaded).
+      if (this.autoSolve || wasRunning) {
+        clearTimeout(this.autoTimer);
+        this.autoTimer = setTimeout(() => this.run().catch(() => {}), 300);
+      }
+    } else if (event.type === 'layout-error') {
+      this.layoutReady = false;
+      this.stop('the layout changed');
+      this.clearResults();
+      this.setButtons();
+    }
+  }
+
+  clearResults() {
+    this.results.clear();
+    this.shown = null;
+    this.view.clear();
+    this.charts.set(null);
+    this.legend.hidden = true;
+    $('solve-results').hidden = true;
+    $('compare-runs').hidden = true;
+    $('solve-stats').replaceChildren();
+    Object.assign(this.quadlay, { param: null, result: null, runs: null });
+    this.quadlay.solve = { state: 'idle' };
+    $('solve-progress').hidden = true;
+  }
+
+  // ---- running -------------------------------------------------------------------------
+
+  /**
+   * Solves with the card's options (overridden by `overrides`) and shows the result.
+   * @returns {Promise<object>} the report
+   */
+  async run(overrides = {}) {
+    this.setOptions(overrides);
+    const options = { ...this.options(), ...pick(overrides, ['iterations', 'chart', 'align']) };
+    return this.runJob(options.iterations + 2, async (token, progress) => {
+      const t0 = performance.now();
+      const result = await this.solveOnce(options, options.chart, token, progress, 0);
+      const ms = performance.now() - t0;
+      this.results.clear();
+      this.results.set(options.chart, { result, ms });
+      $('compare-runs').hidden = true;
+      this.quadlay.runs = null;
+      await this.show(options.chart);
+      this.quadlay.param.ms = performance.now() - t0;
+      return this.quadlay.result;
+    });
+  }
+
+  /**
+   * Solves with unit, rectangle and quad charts (paper Figs. 2 and 8), keeps all three and
+   * shows the quad one; the buttons above the view switch between them.
+   */
+  async compare(overrides = {}) {
+    this.setOptions(overrides);
+    const options = { ...this.options(), ...pick(overrides, ['iterations', 'align']) };
+    const steps = options.iterations + 2;
+    return this.runJob(3 * steps, async (token, progress) => {
+      this.results.clear();
+      for (const [i, chart] of CHARTS.entries()) {
+        const t0 = performance.now();
+        const result = await this.solveOnce(options, chart, token, progress, i * steps, `${chart} charts: `);
+        this.results.set(chart, { result, ms: performance.now() - t0 });
+        await this.client.keepParam(chart);
+      }
+      await this.client.useParam('quad');
+      this.quadlay.runs = Object.fromEntries(
+        [...this.results].map(([k, { result, ms }]) => [k, { distortion: result.distortion, history: result.history, ms }]),
+      );
+      this.renderCompare();
+      await this.show('quad');
+      return this.quadlay.runs;
+    });
+  }
+
+  /** Runs `job(token, progress)` as the one run in progress, with progress and Cancel. */
+  async runJob(total, job) {
+    if (!this.layoutReady) {
+      const err = new Error('place a valid layout on the mesh first');
+      this.fail(err);
+      throw err;
+    }
+    this.stop('a new run');
+    clearTimeout(this.autoTimer);
+    const token = { cancelled: false, waiting: false };
+    this.current = token;
+    const t0 = performance.now();
+    this.quadlay.solve = { state: 'running', step: 0, total, label: 'starting' };
+    this.setButtons();
+    this.setProgress(0, total, 'Starting…', 'running');
+    const progress = (step, label, stats) => {
+      const d = stats.distortion;
+      Object.assign(this.quadlay.solve, { step, label, iteration: stats.iteration, distortion: d });
+      this.setProgress(step, total, `${label} · mean ${fmtD(d.mean)} · max ${fmtD(d.max)} · ${d.flipped} flipped`, 'running');
+    };
+    try {
+      const report = await job(token, progress);
+      if (this.current !== token) throw new Cancelled();
+      const ms = performance.now() - t0;
+      this.quadlay.solve = { ...this.quadlay.solve, state: 'done', step: total, ms };
+      this.setProgress(total, total, `Done in ${(ms / 1000).toFixed(1)} s`, 'done');
+      this.autoSolve = true;
+      this.panel.setStatus('ready', `Solved in ${(ms / 1000).toFixed(1)} s`);
+      return report;
+    } catch (err) {
+      if (token.cancelled || err instanceof Cancelled) {
+        if (this.current === token || this.current === null) {
+          this.quadlay.solve = { ...this.quadlay.solve, state: 'cancelled' };
+          this.setProgress(this.quadlay.solve.step ?? 0, total, `Cancelled (${token.reason || 'by you'})`, 'cancelled');
+        }
+        throw new Cancelled();
+      }
+      this.fail(err);
+      throw err;
+    } finally {
+      if (this.current === token) this.current = null;
+      this.setButtons();
+    }
+  }
+
+  /** One parameterization: start, iterations, finish; reports progress after each. */
+  async solveOnce(options, chart, token, progress, base, prefix = '') {
+    const step = async (promise) => {
+      token.waiting = true;
+      try {
+        return await promise;
+      } finally {
+        token.waiting = false;
+        if (token.cancelled) throw new Cancelled();
+      }
+    };
+    let stats = await step(this.client.startParam({ align: options.align, chart: chart || null }));
+    progress(base + 1, `${prefix}initial solve`, stats);
+    for (let k = 1; k <= options.iterations; k++) {
+      stats = await step(this.client.stepParam());
+      progress(base + 1 + k, `${prefix}iteration ${k}/${options.iterations}`, stats);
+    }
+    const result = await step(this.client.finishParam());
+    progress(base + options.iterations + 2, `${prefix}final solve`, { iteration: stats.iteration, distortion: result.distortion });
+    return result;
+  }
+
+  /** Cancels the run in progress (between steps; a long step restarts the worker). */
+  cancel(reason = '') {
+    const token = this.current;
+    if (!token) return;
+    token.cancelled = true;
+    token.reason = reason;
+    this.setProgress(this.quadlay.solve.step ?? 0, this.quadlay.solve.total ?? 1, 'Cancelling…', 'running');
+    setTimeout(() => {
+      if (token.waiting) this.client.restart('cancelled');
+    }, CANCEL_GRACE_MS);
+  }
+
+  /**
+   * Drops the run in progress, e.g. because the mesh or layout changed under it: its step
+   * in flight finishes in the worker, but nothing more is asked and nothing shown.
+   */
+  stop(reason) {
+    const token = this.current;
+    if (!token) return;
+    token.cancelled = true;
+    token.reason = reason;
+    this.current = null;
+  }
+
+  fail(err) {
+    const message = err?.message || String(err);
+    this.quadlay.solve = { ...this.quadlay.solve, state: 'error', error: message };
+    this.quadlay.error = message;
+    this.setProgress(this.quadlay.solve.step ?? 0, this.quadlay.solve.total ?? 1, message, 'error');
+    this.panel.showError('Could not parameterize', message);
+    this.panel.setStatus('error', 'Parameterization failed');
+  }
+
+  // ---- showing -------------------------------------------------------------------------
+
+  /** Shows the kept result `name` (a chart type, or '' for the layout's own types). */
+  async show(name) {
+    const { result, ms } = this.results.get(name);
+    this.shown = name;
+    const range = scaleRange(result.distortion.max);
+    this.range = range;
+    this.view.setCell(this.edgeLength());
+    this.view.setParam(result, range);
+    if (this.mode === 'surface') this.mode = 'checker';
+    this.setMode(this.mode);
+    renderLegend(this.legend, range, result.distortion);
+    const kinds = result.charts.map((c) => c.kind);
+    this.charts.set(result, range, `${name ? `${name} charts` : 'charts as the layout says'} · mean ${fmtD(result.distortion.mean)}`);
+    this.renderStats(result, ms);
+    $('solve-results').hidden = false;
+    for (const b of $('compare-runs').querySelectorAll('button')) b.setAttribute('aria-checked', String(b.dataset.run === name));
+    this.quadlay.param = {
+      chart: name || null,
+      distortion: result.distortion,
+      history: result.history,
+      charts: kinds,
+      triangles: result.triangles,
+      ms,
+    };
+    this.quadlay.result = this.report(result);
+    this.panel.hideError();
+    await this.viewer.nextFrame();
+  }
+
+  async showRun(name) {
+    if (!this.results.has(name) || this.current) return false;
+    const previous = this.shown;
+    if (previous !== name) await this.client.useParam(name, previous);
+    await this.show(name);
+    return true;
+  }
+
+  renderCompare() {
+    const box = $('compare-runs');
+    box.replaceChildren();
+    for (const chart of CHARTS) {
+      const entry = this.results.get(chart);
+      if (!entry) continue;
+      const b = document.createElement('button');
+      b.type = 'button';
+      b.setAttribute('role', 'radio');
+      b.dataset.run = chart;
+      b.title = `show the ${chart}-chart result (mean distortion, flipped triangles)`;
+      b.append(chart);
+      const small = document.createElement('small');
+      small.textContent = `${fmtD(entry.result.distortion.mean)} · ${entry.result.distortion.flipped}✗`;
+      b.append(small);
+      b.addEventListener('click', () => this.showRun(chart).catch((err) => this.fail(err)));
+      box.append(b);
+    }
+    box.hidden = false;
+  }
+
+  /** @param {'surface'|'checker'|'distortion'} mode */
+  setMode(mode) {
+    this.mode = mode;
+    this.view.setMode(this.results.size ? mode : 'surface');
+    for (const b of document.querySelectorAll('[data-param-view]')) b.setAttribute('aria-checked', String(b.dataset.paramView === mode));
+    this.legend.hidden = !(mode === 'distortion' && this.view.hasParam);
+  }
+
+  async showCharts(on) {
+    this.charts.show(on);
+    return this.charts.drawn;
+  }
+
+  renderStats(result, ms) {
+    const d = result.distortion;
+    const rows = [
+      ['Iterations', String(result.history.length - 1)],
+      ['Distortion mean', fmtD(d.mean)],
+      ['Distortion max', fmtD(d.max)],
+      ['Flipped triangles', String(d.flipped)],
+      ['Refined triangles', new Intl.NumberFormat('en-US').format(result.triangles)],
+      ['Solve time', `${(ms / 1000).toFixed(2)} s`],
+    ];
+    const dl = $('solve-stats');
+    dl.replaceChildren();
+    for (const [k, v] of rows) {
+      const dt = document.createElement('dt');
+      const dd = document.createElement('dd');
+      dt.textContent = k;
+      dd.textContent = v;
+      dd.dataset.key = k.toLowerCase().replace(/ /g, '_');
+      dl.append(dt, dd);
+    }
+  }
+
+  /** The report of cli.md for the shown run (quads once the quad mesh exists). */
+  report(result) {
+    const s = this.quadlay.summary ?? {};
+    const l = this.quadlay.layout ?? {};
+    const parameterize = result.history.reduce((a, h) => a + h.seconds, 0);
+    return {
+      input: { vertices: s.vertices, triangles: s.triangles },
+      layout: { nodes: l.nodes, edges: l.edges, faces: l.faces, t_vertices: l.t_vertices },
+      iterations: result.history.map((h) => ({ iteration: h.iteration, distortion: h.distortion.mean, seconds: h.seconds })),
+      parameterization: {
+        distortion_mean: result.distortion.mean,
+        distortion_max: result.distortion.max,
+        flipped_triangles: result.distortion.flipped,
+      },
+      quads: null,
+      seconds: {
+        load: result.seconds.load,
+        layout: result.seconds.layout,
+        parameterize,
+        mesh: 0,
+        total: result.seconds.load + result.seconds.layout + parameterize,
+      },
+    };
+  }
+
+  // ---- files ---------------------------------------------------------------------------
+
+  async exportFile(what) {
+    if (!EXPORTS[what]) throw new Error(`unknown export '${what}'`);
+    try {
+      const { bytes, mime } = await this.client.exportFile(what);
+      const name = exportName(this.quadlay.name, what);
+      download(bytes, name, mime);
+      this.panel.setStatus('ready', `Saved ${name} (${new Intl.NumberFormat('en-US').format(bytes.byteLength)} bytes)`);
+      return { name, size: bytes.byteLength };
+    } catch (err) {
+      this.panel.showError(`Could not export ${EXPORTS[what].label}`, err?.message || String(err));
+      throw err;
+    }
+  }
+
+  // ---- the card's state ----------------------------------------------------------------
+
+  setButtons() {
+    const running = Boolean(this.current);
+    $('solve-run').disabled = running || !this.layoutReady;
+    $('solve-compare').disabled = running || !this.layoutReady;
+    $('solve-cancel').hidden = !running;
+    $('solve-run').title = this.layoutReady ? 'parameterize with these options' : 'place a valid layout first';
+    for (const b of document.querySelectorAll('[data-export]')) {
+      b.disabled = running || (b.dataset.export.startsWith('quad') && !this.hasQuads);
+    }
+  }
+
+  setProgress(step, total, text, state) {
+    $('solve-progress').hidden = false;
+    $('solve-progress').dataset.state = state;
+    $('solve-bar').style.width = `${Math.round((100 * step) / Math.max(total, 1))}%`;
+    $('solve-progress-text').textContent = text;
+  }
+}
+
+function pick(obj, keys) {
+  return Object.fromEntries(keys.filter((k) => obj[k] !== undefined).map((k) => [k, obj[k]]));
+}
+
+/** A distortion, three significant digits. */
+function fmtD(x) {
+  if (!Number.isFinite(x)) return String(x);
+  if (x === 0) return '0';
+  return Math.abs(x) >= 1e-3 && Math.abs(x) < 1e4 ? String(Number(x.toPrecision(3))) : x.toExponential(2);
+}
+
+function short(x) {
+  return String(Number(x.toPrecision(3)));
+}
+
+export { CoreError };
