@@ -3,26 +3,22 @@
 //! rectangles or unit squares. The distortion after each iteration is printed
 //! (`cargo test --test param_known_answers -- --nocapture`).
 
-use quadlay::layout::{build_layout, parse_layout};
+mod common;
+
+use common::layout_json;
+use quadlay::layout::{build_layout, parse_layout, SurfaceLayout};
 use quadlay::mesh::primitives::quad_grid;
 use quadlay::mesh::Mesh;
 use quadlay::param::{ParamOptions, ParamSession};
 
-fn layout_json(nodes: &[u32], edges: &[[u32; 2]], chart: &str) -> String {
-    let nodes: Vec<String> = nodes.iter().map(|v| format!("{{\"vertex\":{v}}}")).collect();
-    let edges: Vec<String> = edges.iter().map(|e| format!("{{\"nodes\":[{},{}]}}", e[0], e[1])).collect();
-    format!(
-        "{{\"format\":\"quad-layout\",\"version\":1,\"nodes\":[{}],\"edges\":[{}],\"defaults\":{{\"chart\":\"{chart}\"}}}}",
-        nodes.join(","),
-        edges.join(",")
-    )
-}
-
 /// Runs `iterations` chart optimizations; returns the mean distortion per iteration and the
 /// final solve's (mean, flipped).
 fn run(mesh: &Mesh, layout: &str, iterations: usize) -> (Vec<f64>, f64, usize) {
-    let layout = build_layout(mesh, &parse_layout(layout).unwrap()).unwrap();
-    let mut s = ParamSession::new(mesh, &layout, &ParamOptions::default()).unwrap();
+    run_placed(mesh, &build_layout(mesh, &parse_layout(layout).unwrap()).unwrap(), iterations)
+}
+
+fn run_placed(mesh: &Mesh, layout: &SurfaceLayout, iterations: usize) -> (Vec<f64>, f64, usize) {
+    let mut s = ParamSession::new(mesh, layout, &ParamOptions::default()).unwrap();
     for _ in 0..iterations {
         s.step().unwrap();
     }
@@ -77,19 +73,13 @@ fn a_planar_quadrilateral_cut_into_2x2_faces_by_curves_across_triangles() {
 #[test]
 fn the_sheared_cube_is_isometric_with_quad_charts_and_not_with_rectangles() {
     // Paper Fig. 8: a parallelepiped with unit edges, its 12 edges as the layout.
-    let a = [1.0, 0.0, 0.0];
-    let b = [0.5, 0.75f64.sqrt(), 0.0];
-    let c = [0.3, 0.2, (1.0f64 - 0.09 - 0.04).sqrt()];
-    let n = 8;
-    let (mesh, ids) = quadlay::mesh::primitives::parallelepiped(a, b, c, n);
-    let corner = |i: u32, j: u32, k: u32| ids[&[i * n, j * n, k * n]];
-    let nodes = [corner(0, 0, 0), corner(1, 0, 0), corner(1, 1, 0), corner(0, 1, 0), corner(0, 0, 1), corner(1, 0, 1), corner(1, 1, 1), corner(0, 1, 1)];
-    let edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]];
-    let (quad, final_quad, flips) = run(&mesh, &layout_json(&nodes, &edges, "quad"), 20);
+    let (mesh, layout) = common::sheared_cube(8);
+    let (quad, final_quad, flips) = run_placed(&mesh, &layout, 20);
     println!("sheared cube, quad charts: {}", sci(&quad));
     assert_eq!(flips, 0);
     assert!(final_quad < 1e-9, "quad charts: {final_quad:e}");
-    let (rect, final_rect, _) = run(&mesh, &layout_json(&nodes, &edges, "rect"), 10);
+    let (mesh, layout) = common::sheared_cube_with_chart(8, "rect");
+    let (rect, final_rect, _) = run_placed(&mesh, &layout, 10);
     println!("sheared cube, rect charts: {}", sci(&rect));
     assert!(final_rect > 1e-3, "rect charts: {final_rect:e}");
 }

@@ -5,27 +5,13 @@
 
 mod common;
 
-use quadlay::io::read_mesh;
-use quadlay::layout::{build_layout, parse_layout};
 use quadlay::param::{ParamOptions, ParamSession};
-
-const SAMPLES: [(&str, &str); 6] = [
-    ("mushroom-4", "mushroom.obj"),
-    ("mushroom-grid", "mushroom.obj"),
-    ("mushroom-t", "mushroom.obj"),
-    ("eight-rims", "eight.obj"),
-    ("fandisk-cube", "fandisk.obj"),
-    ("bunny-cube", "bunny_28k.obj"),
-];
 
 #[test]
 fn sample_layouts_parameterize_without_flips_and_lower_the_distortion() {
-    for (layout_name, mesh_name) in SAMPLES {
-        let path = common::shared_mesh(mesh_name);
-        let mesh = read_mesh(&std::fs::read(&path).unwrap(), mesh_name).unwrap().mesh;
-        let layout_path = format!("{}/www/layouts/{layout_name}.layout.json", env!("CARGO_MANIFEST_DIR"));
-        let layout = parse_layout(&std::fs::read_to_string(layout_path).unwrap()).unwrap();
-        let layout = build_layout(&mesh, &layout).unwrap();
+    for (layout_name, mesh_name) in common::SAMPLE_LAYOUTS {
+        let mesh = common::load_mesh(mesh_name);
+        let layout = common::sample_layout(&mesh, layout_name);
         let t0 = std::time::Instant::now();
         let mut s = ParamSession::new(&mesh, &layout, &ParamOptions::default()).unwrap();
         for _ in 0..3 {
@@ -61,9 +47,8 @@ fn sample_layouts_parameterize_without_flips_and_lower_the_distortion() {
 /// nodes, in the charts on both sides of the curve.
 #[test]
 fn tagged_curves_lie_on_their_chart_sides() {
-    let mesh = read_mesh(&std::fs::read(common::shared_mesh("fandisk.obj")).unwrap(), "fandisk.obj").unwrap().mesh;
-    let path = format!("{}/www/layouts/fandisk-cube.layout.json", env!("CARGO_MANIFEST_DIR"));
-    let layout = build_layout(&mesh, &parse_layout(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap();
+    let mesh = common::load_mesh("fandisk.obj");
+    let layout = common::sample_layout(&mesh, "fandisk-cube");
     assert!(layout.curves.iter().all(|c| c.align));
     let mut s = ParamSession::new(&mesh, &layout, &ParamOptions::default()).unwrap();
     s.step().unwrap();

@@ -571,3 +571,60 @@ fn flood_oracle(name: &str, mesh: &Mesh, s: &SurfaceLayout, is_node: &[bool], on
         assert_eq!(*region_of_face.entry(f).or_insert(r), r, "{name}: face {f}: vertex {v} lies in a region apart from the face's other vertices");
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// The parameterization's and the extraction's fixtures.
+
+/// The sample layouts of the page (www/layouts) and their meshes.
+pub const SAMPLE_LAYOUTS: [(&str, &str); 6] = [
+    ("mushroom-4", "mushroom.obj"),
+    ("mushroom-grid", "mushroom.obj"),
+    ("mushroom-t", "mushroom.obj"),
+    ("eight-rims", "eight.obj"),
+    ("fandisk-cube", "fandisk.obj"),
+    ("bunny-cube", "bunny_28k.obj"),
+];
+
+/// Sample layout `name` (www/layouts/NAME.layout.json) placed on `mesh`.
+pub fn sample_layout(mesh: &Mesh, name: &str) -> SurfaceLayout {
+    let path = format!("{}/www/layouts/{name}.layout.json", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    build_layout(mesh, &parse_layout(&text).unwrap()).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// A layout file with nodes on `nodes` (vertex ids), edges between node indices, and
+/// `chart` for every face.
+pub fn layout_json(nodes: &[u32], edges: &[[u32; 2]], chart: &str) -> String {
+    let nodes: Vec<Value> = nodes.iter().map(|&v| at(v)).collect();
+    let edges: Vec<Value> = edges.iter().map(|e| edge(e[0], e[1])).collect();
+    let mut d = doc(nodes, edges);
+    d["defaults"] = json!({ "chart": chart });
+    d.to_string()
+}
+
+/// Paper Fig. 8: a parallelepiped with unit edges, sampled n×n per face, with the cube's 12
+/// edges as the layout and quad charts.
+pub fn sheared_cube(n: u32) -> (Mesh, SurfaceLayout) {
+    sheared_cube_with_chart(n, "quad")
+}
+
+pub fn sheared_cube_with_chart(n: u32, chart: &str) -> (Mesh, SurfaceLayout) {
+    let a = [1.0, 0.0, 0.0];
+    let b = [0.5, 0.75f64.sqrt(), 0.0];
+    let c = [0.3, 0.2, (1.0f64 - 0.09 - 0.04).sqrt()];
+    let (mesh, ids) = quadlay::mesh::primitives::parallelepiped(a, b, c, n);
+    let corner = |i: u32, j: u32, k: u32| ids[&[i * n, j * n, k * n]];
+    let nodes = [
+        corner(0, 0, 0),
+        corner(1, 0, 0),
+        corner(1, 1, 0),
+        corner(0, 1, 0),
+        corner(0, 0, 1),
+        corner(1, 0, 1),
+        corner(1, 1, 1),
+        corner(0, 1, 1),
+    ];
+    let edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]];
+    let layout = build_layout(&mesh, &parse_layout(&layout_json(&nodes, &edges, chart)).unwrap()).unwrap();
+    (mesh, layout)
+}
