@@ -1,0 +1,154 @@
+//! `quadlay remesh` as shared/spec/cli.md states it: outputs in every format, the report's
+//! fields, `--param-out`, exit status 2 with one `error:` line for bad input, and no output
+//! file left behind when a run fails.
+
+mod common;
+
+use common::{run_cli, shared_mesh};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+fn layout(name: &str) -> String {
+    format!("{}/www/layouts/{name}.layout.json", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A fresh scratch directory for one test.
+fn scratch(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_remesh").join(test);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn mushroom() -> String {
+    shared_mesh("mushroom.obj").to_string_lossy().into_owned()
+}
+
+#[test]
+fn remesh_writes_quads_param_uvs_and_the_report() {
+    let dir = scratch("outputs");
+    let out = dir.join("q.obj");
+    let param = dir.join("p.obj");
+    let (code, stdout, stderr) = run_cli(&[
+        "remesh",
+        &mushroom(),
+        "--layout",
+        &layout("mushroom-grid"),
+        "--iterations",
+        "2",
+        "-o",
+        out.to_str().unwrap(),
+        "--param-out",
+        param.to_str().unwrap(),
+        "--report",
+        "-",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let report: Value = serde_json::from_str(&stdout).expect("the report alone on standard output");
+    // Every field of cli.md's report.
+    for path in [
+        "/input/vertices", "/input/triangles", "/layout/nodes", "/layout/edges", "/layout/faces", "/layout/t_vertices",
+        "/parameterization/distortion_mean", "/parameterization/distortion_max", "/parameterization/flipped_triangles",
+        "/quads/vertices", "/quads/faces", "/quads/irregular_vertices", "/seconds/load", "/seconds/layout",
+        "/seconds/parameterize", "/seconds/mesh", "/seconds/total",
+    ] {
+        assert!(report.pointer(path).is_some_and(|v| v.is_number()), "report misses {path}: {report}");
+    }
+    assert_eq!(report["input"]["vertices"], 2337);
+    assert_eq!(report["layout"]["faces"], 4);
+    let iterations = report["iterations"].as_array().unwrap();
+    assert_eq!(iterations.len(), 3, "initial + 2 iterations");
+    for (k, it) in iterations.iter().enumerate() {
+        assert_eq!(it["iteration"], k);
+        assert!(it["distortion"].as_f64().unwrap() >= 0.0 && it["seconds"].as_f64().unwrap() >= 0.0);
+    }
+
+    let quads = std::fs::read_to_string(&out).unwrap();
+    let faces: Vec<&str> = quads.lines().filter(|l| l.starts_with("f ")).collect();
+    assert_eq!(faces.len() as u64, report["quads"]["faces"].as_u64().unwrap());
+    assert!(faces.iter().all(|f| f.split_whitespace().count() == 5), "every face a quad");
+    assert_eq!(quads.lines().filter(|l| l.starts_with("v ")).count() as u64, report["quads"]["vertices"].as_u64().unwrap());
+
+    // The input mesh with one vt per triangle corner, each triangle in one chart.
+    let p = std::fs::read_to_string(&param).unwrap();
+    assert_eq!(p.lines().filter(|l| l.starts_with("v ")).count(), 2337);
+    assert_eq!(p.lines().filter(|l| l.starts_with("f ")).count(), 4608);
+    assert_eq!(p.lines().filter(|l| l.starts_with("vt ")).count(), 3 * 4608);
+    let uv_ok = p
+        .lines()
+        .filter(|l| l.starts_with("vt "))
+        .all(|l| l.split_whitespace().skip(1).all(|x| x.parse::<f64>().is_ok_and(f64::is_finite)));
+    assert!(uv_ok);
+    // Nothing else was left in the directory (no temporary files).
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+}
+
+#[test]
+fn every_output_format_reads_back_with_the_same_surface() {
+    let dir = scratch("formats");
+    let mut faces = Vec::new();
+    for name in ["q.obj", "q.ply", "q.glb", "q.gltf"] {
+        let out = dir.join(name);
+        let (code, _, stderr) =
+            run_cli(&["remesh", &mushroom(), "--layout", &layout("mushroom-4"), "--iterations", "0", "-o", out.to_str().unwrap()]);
+        assert_eq!(code, 0, "{name}: {stderr}");
+        let bytes = std::fs::read(&out).unwrap();
+        let mesh = quadlay::io::read_mesh(&bytes, name).unwrap_or_else(|e| panic!("{name}: {e}")).mesh;
+        faces.push(mesh.n_faces());
+    }
+    // OBJ and PLY keep quads (read back as two triangles each), GLB/glTF split them: the same.
+    assert!(faces.iter().all(|&f| f == faces[0] && f > 100), "{faces:?}");
+}
+
+#[test]
+fn bad_input_gives_exit_2_and_one_error_line_and_no_output() {
+    let dir = scratch("errors");
+    let out = dir.join("q.obj");
+    let out = out.to_str().unwrap();
+    let broken = dir.join("broken.layout.json");
+    std::fs::write(&broken, r#"{"format":"quad-layout","version":1,"nodes":[{"vertex":0}],"edges":[{"nodes":[0,7]}]}"#).unwrap();
+    let m = mushroom();
+    let l = layout("mushroom-grid");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["remesh", &m], "--layout"),
+        (vec!["remesh", &m, "--layout", broken.to_str().unwrap(), "-o", out], "edges[0]"),
+        (vec!["remesh", &m, "--layout", &l, "--edge-length", "0", "-o", out], "--edge-length"),
+        (vec!["remesh", &m, "--layout", &l, "--edge-length", "NaN", "-o", out], "--edge-length"),
+        (vec!["remesh", &m, "--layout", &l, "--edge-length", "abc", "-o", out], "not a number"),
+        (vec!["remesh", &m, "--layout", &l, "--edge-length", "1e-7", "-o", out], "quads"),
+        (vec!["remesh", &m, "--layout", &l, "--chart", "hexagon", "-o", out], "--chart"),
+        (vec!["remesh", &m, "--layout", &l, "--iterations", "-1", "-o", out], "--iterations"),
+        (vec!["remesh", &m, "--layout", &l, "-o", "q.xyz"], "q.xyz"),
+        (vec!["remesh", &m, "--layout", &l, "--param-out", "p.ply"], "p.ply"),
+        (vec!["remesh", &m, "--layout", &l, "--bogus"], "--bogus"),
+        (vec!["remesh", "no-such-mesh.obj", "--layout", &l, "-o", out], "no-such-mesh.obj"),
+    ];
+    for (args, names) in cases {
+        let (code, stdout, stderr) = run_cli(&args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stdout.is_empty(), "{args:?}: {stdout}");
+        let lines: Vec<&str> = stderr.lines().collect();
+        assert_eq!(lines.len(), 1, "{args:?}: {stderr}");
+        assert!(lines[0].starts_with("error: ") && lines[0].contains(names), "{args:?}: {stderr}");
+    }
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "only the broken layout is there");
+}
+
+#[test]
+fn chart_and_no_align_options_change_the_result() {
+    let (m, l) = (mushroom(), layout("mushroom-grid"));
+    let run = |extra: &[&str]| -> Value {
+        let mut args = vec!["remesh", &m, "--layout", &l, "--report", "-"];
+        args.extend_from_slice(extra);
+        let (code, stdout, stderr) = run_cli(&args);
+        assert_eq!(code, 0, "{stderr}");
+        serde_json::from_str(&stdout).unwrap()
+    };
+    let quad = run(&["--iterations", "3"]);
+    let unit = run(&["--iterations", "3", "--chart", "unit"]);
+    let d = |r: &Value| r["parameterization"]["distortion_mean"].as_f64().unwrap();
+    println!("mushroom-grid: quad charts {:.4}, unit charts {:.4}", d(&quad), d(&unit));
+    assert!(d(&quad) < d(&unit));
+    let free = run(&["--no-align"]);
+    assert_ne!(d(&free), d(&run(&[])), "--no-align releases the tagged edges");
+}
