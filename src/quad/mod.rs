@@ -4,6 +4,9 @@
 pub mod closest;
 pub mod quality;
 
+pub mod closest;
+pub mod quality;
+
 pub mod counts;
 pub mod locate;
 
