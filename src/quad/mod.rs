@@ -4,9 +4,6 @@
 pub mod closest;
 pub mod quality;
 
-pub mod closest;
-pub mod quality;
-
 pub mod counts;
 pub mod locate;
 
