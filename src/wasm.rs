@@ -3,11 +3,14 @@
 //! typed arrays, summaries as plain JS objects, errors as JS `Error`s with readable text.
 
 use crate::clock::now;
-use crate::io::{write_obj, Polygons};
+use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh};
 use crate::layout::{build_layout, curve, parse_layout, ChartType, Layout, SurfaceLayout};
 use crate::param::chart::ChartKind;
+use crate::param::input_uv::input_corner_uv;
 use crate::param::{ParamOptions, ParamSession};
+use crate::quad::{default_edge_length, extract, quality::measure, QuadMesh, QuadOptions};
+use crate::report::{Report, Seconds};
 use crate::summary::{LayoutSummary, MeshSummary};
 use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
@@ -30,6 +33,19 @@ pub struct Session {
 struct Run {
     layout: SurfaceLayout,
     param: ParamSession,
+    /// Seconds of the parameterization: the iterations and the final solve.
+    seconds: f64,
+    /// The quad mesh of the last [`Session::remesh`] of this run, with its report.
+    quads: Option<(QuadMesh, Report)>,
+}
+
+/// Options of [`Session::remesh`] (all optional).
+#[derive(Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+struct RemeshOptions {
+    /// Target quad edge length in the mesh's units; default 1/40 of the bounding-box
+    /// diagonal.
+    edge_length: Option<f64>,
 }
 
 /// Options of a parameterization run, as one object from JS (all optional).
@@ -162,23 +178,32 @@ impl Session {
         let options = ParamOptions { align: opts.align.unwrap_or(true), ..ParamOptions::default() };
         let param = ParamSession::new(&self.loaded.mesh, &layout, &options).map_err(|e| JsError::new(&e.to_string()))?;
         let first = param.history()[0];
-        self.param = Some(Run { layout, param });
+        self.param = Some(Run { layout, seconds: first.seconds, param, quads: None });
         to_js(&first)
     }
 
     /// One chart-optimization iteration (paper 3.1); returns its statistics.
     #[wasm_bindgen(js_name = stepParam)]
     pub fn step_param(&mut self) -> Result<JsValue, JsError> {
-        let p = self.param_mut()?;
-        to_js(&p.step().map_err(|e| JsError::new(&e.to_string()))?)
+        let run = self.run_mut()?;
+        run.quads = None;
+        let stats = run.param.step().map_err(|e| JsError::new(&e.to_string()))?;
+        run.seconds += stats.seconds;
+        to_js(&stats)
     }
+
 
     /// The final solve with the user's alignment tags; returns its distortion.
     #[wasm_bindgen(js_name = finishParam)]
     pub fn finish_param(&mut self) -> Result<JsValue, JsError> {
-        let p = self.param_mut()?;
-        to_js(&p.finish().map_err(|e| JsError::new(&e.to_string()))?)
+        let run = self.run_mut()?;
+        run.quads = None;
+        let t0 = now();
+        let d = run.param.finish().map_err(|e| JsError::new(&e.to_string()))?;
+        run.seconds += now() - t0;
+        to_js(&d)
     }
+
 
     /// The refined (cut) mesh's vertex positions, xyz interleaved, as `Float32Array`.
     #[wasm_bindgen(js_name = cutPositions)]
@@ -236,15 +261,98 @@ impl Session {
         to_js(&self.param_ref()?.history())
     }
 
-    /// The refined triangle mesh with one `vt` per triangle corner (the corner's coordinates
-    /// in its triangle's chart), as OBJ bytes (`--param-out` of the command line).
+    /// The input triangle mesh with one `vt` per triangle corner (its coordinates in the
+    /// chart its triangle is parameterized in), as OBJ bytes: the file of the command
+    /// line's `--param-out`.
     #[wasm_bindgen(js_name = paramObj)]
     pub fn param_obj(&self) -> Result<Vec<u8>, JsError> {
+        let run = self.param.as_ref().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        let mesh = &self.loaded.mesh;
+        let uv: Vec<[f64; 2]> = input_corner_uv(mesh, &run.layout, &run.param).into_iter().flatten().collect();
+        let tris: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
+        Ok(write_obj(Polygons { positions: mesh.positions(), faces: &tris, arity: 3 }, Some(&uv)))
+    }
+
+    /// The mesh refined along the layout curves (every triangle in one chart) with one `vt`
+    /// per triangle corner, as OBJ bytes.
+    #[wasm_bindgen(js_name = cutObj)]
+    pub fn cut_obj(&self) -> Result<Vec<u8>, JsError> {
         let p = self.param_ref()?;
         let cut = p.cut();
         let faces: Vec<u32> = cut.triangles.iter().flatten().copied().collect();
         let uv: Vec<[f64; 2]> = p.solution().corner_uv.iter().flatten().copied().collect();
         Ok(write_obj(Polygons { positions: &cut.positions, faces: &faces, arity: 3 }, Some(&uv)))
+    }
+
+    /// Extracts the quad mesh of the active run (paper Section 4) with
+    /// `{ edge_length?: number }` (default 1/40 of the bounding-box diagonal) and measures
+    /// it. Returns the report of the command line's `--report` (cli.md); the mesh itself is
+    /// read with [`quad_positions`](Self::quad_positions) and
+    /// [`quad_indices`](Self::quad_indices). Uses the final solve if it ran, else the latest
+    /// iteration.
+    pub fn remesh(&mut self, options: JsValue) -> Result<JsValue, JsError> {
+        let opts: RemeshOptions = if options.is_undefined() || options.is_null() {
+            RemeshOptions::default()
+        } else {
+            serde_wasm_bindgen::from_value(options).map_err(|e| JsError::new(&format!("remesh options: {e}")))?
+        };
+        let mesh = &self.loaded.mesh;
+        let (load, layout_seconds) = (self.load_seconds, self.layout_seconds);
+        let run = self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        run.quads = None;
+        let edge = opts.edge_length.unwrap_or_else(|| default_edge_length(mesh));
+        let t0 = now();
+        let (quads, extraction) =
+            extract(&run.layout, &run.param, &QuadOptions::with_edge_length(edge)).map_err(|e| JsError::new(&e.to_string()))?;
+        let t_mesh = now();
+        let quality = measure(mesh, &quads);
+        let parameterize = run.seconds;
+        let seconds = Seconds {
+            load,
+            layout: layout_seconds,
+            parameterize,
+            mesh: t_mesh - t0,
+            total: load + layout_seconds + parameterize + (now() - t0),
+        };
+        let report = Report::new(mesh, &run.layout, &run.param, &quality, &extraction.counts, seconds);
+        let out = to_js(&report);
+        run.quads = Some((quads, report));
+        out
+    }
+
+    /// The last quad mesh's vertex positions, xyz interleaved, as `Float32Array`.
+    #[wasm_bindgen(js_name = quadPositions)]
+    pub fn quad_positions(&self) -> Result<Vec<f32>, JsError> {
+        Ok(self.quads()?.positions.iter().flat_map(|p| p.map(|c| c as f32)).collect())
+    }
+
+    /// The last quad mesh's quads, four vertex indices each (counter-clockwise seen from
+    /// outside), as `Uint32Array`.
+    #[wasm_bindgen(js_name = quadIndices)]
+    pub fn quad_indices(&self) -> Result<Vec<u32>, JsError> {
+        Ok(self.quads()?.quads.iter().flatten().copied().collect())
+    }
+
+    /// The last report of [`remesh`](Self::remesh) of the active run.
+    #[wasm_bindgen(js_name = quadReport)]
+    pub fn quad_report(&self) -> Result<JsValue, JsError> {
+        let run = self.param.as_ref().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        to_js(&run.quads.as_ref().ok_or_else(|| JsError::new("remesh first"))?.1)
+    }
+
+    /// The last quad mesh as a file: `format` is "obj" or "ply" (quads kept) or "glb" (each
+    /// quad split in two triangles).
+    #[wasm_bindgen(js_name = quadFile)]
+    pub fn quad_file(&self, format: &str) -> Result<Vec<u8>, JsError> {
+        let q = self.quads()?;
+        let faces: Vec<u32> = q.quads.iter().flatten().copied().collect();
+        let polygons = Polygons { positions: &q.positions, faces: &faces, arity: 4 };
+        match format {
+            "obj" => Ok(write_obj(polygons, None)),
+            "ply" => Ok(write_ply(polygons)),
+            "glb" => Ok(write_glb(polygons)),
+            _ => Err(JsError::new(&format!("unknown quad mesh format '{format}' (obj, ply or glb)"))),
+        }
     }
 
     /// Seconds spent reading the mesh and placing the current layout: `{ load, layout }`.
@@ -283,11 +391,15 @@ impl Session {
 }
 
 impl Session {
+    fn quads(&self) -> Result<&QuadMesh, JsError> {
+        let run = self.param.as_ref().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        run.quads.as_ref().map(|(q, _)| q).ok_or_else(|| JsError::new("remesh first"))
+    }
+    fn run_mut(&mut self) -> Result<&mut Run, JsError> {
+        self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))
+    }
     fn param_ref(&self) -> Result<&ParamSession, JsError> {
         self.param.as_ref().map(|r| &r.param).ok_or_else(|| JsError::new("start the parameterization first"))
-    }
-    fn param_mut(&mut self) -> Result<&mut ParamSession, JsError> {
-        self.param.as_mut().map(|r| &mut r.param).ok_or_else(|| JsError::new("start the parameterization first"))
     }
 }
 

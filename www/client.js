@@ -110,7 +110,15 @@ export class CoreClient {
   }
 
   /**
-   * A file of the active run: 'param-obj', 'quad-obj', 'quad-ply' or 'quad-glb'.
+   * Extracts the quad mesh of the active run; resolves to the QuadResult of protocol.js.
+   * @param {{edge_length?: number}} options
+   */
+  remesh(options) {
+    return this.request(MSG.REMESH, { options });
+  }
+
+  /**
+   * A file of the active run: 'param-obj', 'cut-obj', 'quad-obj', 'quad-ply' or 'quad-glb'.
    * @returns {Promise<{bytes: ArrayBuffer, mime: string}>}
    */
   exportFile(what) {

@@ -7,6 +7,7 @@ export const EXPORTS = {
   'quad-ply': { suffix: '.quads.ply', label: 'Quads PLY' },
   'quad-glb': { suffix: '.quads.glb', label: 'Quads GLB' },
   'param-obj': { suffix: '.param.obj', label: 'Param OBJ (uv)' },
+  'cut-obj': { suffix: '.refined.param.obj', label: 'Refined OBJ (uv)' },
 };
 
 /** The file name for export `what` of the mesh called `meshName`. */

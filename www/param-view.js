@@ -82,9 +82,20 @@ export class ParamView {
       polygonOffsetUnits: 1,
     });
     this.quadMaterial = new THREE.LineBasicMaterial({ color: 0x10131a, transparent: true, opacity: 0.85 });
+    this.quadSurfaceMaterial = new THREE.MeshStandardMaterial({
+      color: 0xb8c4d6,
+      roughness: 0.6,
+      metalness: 0,
+      side: THREE.DoubleSide,
+      polygonOffset: true,
+      polygonOffsetFactor: 1,
+      polygonOffsetUnits: 1,
+    });
     this.surface = null;
     this.quads = null;
-    /** 'surface' (the input with its layout), 'checker' or 'distortion'. */
+    this.quadSurface = null;
+    /** 'surface' (the input with its layout), 'checker', 'distortion' or 'quads' (the quad
+     * mesh shaded, instead of the input). */
     this.mode = 'surface';
     this.showQuads = true;
   }
@@ -113,16 +124,29 @@ export class ParamView {
   }
 
   /**
-   * Shows the quad mesh's edges over the surface.
-   * @param {Float32Array|null} segments xyz of both ends of every edge, null: none
+   * Shows the quad mesh: its edges over the surface, and shaded in mode 'quads'.
+   * @param {{segments: Float32Array, positions: Float32Array, index: Uint32Array,
+   *   normal: Float32Array}|null} quads the QuadResult of protocol.js; null: none
    */
-  setQuads(segments) {
+  setQuads(quads) {
     if (this.quads) {
-      this.group.remove(this.quads);
+      this.group.remove(this.quads, this.quadSurface);
       this.quads.geometry.dispose();
+      this.quadSurface.geometry.dispose();
       this.quads = null;
+      this.quadSurface = null;
     }
-    if (segments) {
+    if (quads) {
+      const { segments } = quads;
+      const s = new THREE.BufferGeometry();
+      s.setAttribute('position', new THREE.BufferAttribute(quads.positions, 3));
+      s.setAttribute('normal', new THREE.BufferAttribute(quads.normal, 3));
+      s.setIndex(new THREE.BufferAttribute(quads.index, 1));
+      s.boundingSphere = this.viewer.mesh?.geometry.boundingSphere?.clone() ?? null;
+      if (!s.boundingSphere) s.computeBoundingSphere();
+      this.quadSurface = new THREE.Mesh(s, this.quadSurfaceMaterial);
+      this.quadSurface.name = 'quad-surface';
+      this.group.add(this.quadSurface);
       const g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(segments, 3));
       g.boundingSphere = this.viewer.mesh?.geometry.boundingSphere?.clone() ?? null;
@@ -135,7 +159,7 @@ export class ParamView {
     this.apply();
   }
 
-  /** @param {'surface'|'checker'|'distortion'} mode */
+  /** @param {'surface'|'checker'|'distortion'|'quads'} mode */
   setMode(mode) {
     this.mode = mode;
     this.apply();
@@ -157,11 +181,13 @@ export class ParamView {
   }
 
   apply() {
-    const param = this.mode !== 'surface' && this.surface !== null;
+    const quadShown = this.mode === 'quads' && this.quadSurface !== null;
+    const param = !quadShown && this.mode !== 'surface' && this.mode !== 'quads' && this.surface !== null;
     if (this.surface) this.surface.visible = param;
-    if (this.viewer.mesh) this.viewer.mesh.visible = !param;
+    if (this.quadSurface) this.quadSurface.visible = quadShown;
+    if (this.viewer.mesh) this.viewer.mesh.visible = !param && !quadShown;
     this.material.uniforms.mode.value = this.mode === 'distortion' ? 1 : 0;
-    if (this.quads) this.quads.visible = this.showQuads;
+    if (this.quads) this.quads.visible = this.showQuads || quadShown;
     this.viewer.requestRender();
   }
 

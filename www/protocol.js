@@ -78,8 +78,22 @@ export const MSG = Object.freeze({
    */
   PARAM_USE: 'param-use',
   /**
+   * Extract the quad mesh of the active run (paper Section 4) and measure it.
+   * args:   { options: { edge_length?: number — target quad edge length, mesh units;
+   *                      default 1/40 of the bounding-box diagonal } }
+   * result: QuadResult { report (the --report JSON of cli.md), vertices, faces,
+   *           positions: Float32Array (xyz per quad vertex),
+   *           index: Uint32Array (two triangles per quad, for drawing it shaded),
+   *           normal: Float32Array (per vertex),
+   *           segments: Float32Array (xyz of both ends of every quad edge, once) }
+   *         — arrays transferred
+   */
+  REMESH: 'remesh',
+  /**
    * A file of the active run, to download.
-   * args:   { what: 'param-obj' (the refined triangle mesh, one vt per triangle corner)
+   * args:   { what: 'param-obj' (the input triangle mesh, one vt per triangle corner: the
+   *                              command line's --param-out)
+   *                 | 'cut-obj' (the same for the mesh refined along the layout curves)
    *                 | 'quad-obj' | 'quad-ply' | 'quad-glb' (the quad mesh of the last REMESH) }
    * result: { bytes: ArrayBuffer (transferred), mime: string }
    */

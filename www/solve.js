@@ -11,15 +11,18 @@
 //              iteration, distortion: { mean, max, flipped }, error, ms }
 //   param    the shown run: { chart, distortion, history, charts: [kind per face],
 //              triangles (of the refined mesh), ms (page time from Solve to drawn) }
-//   result   the report of the last finished run (the CLI's --report JSON, cli.md)
+//   quads    the shown quad mesh: { vertices, faces, edge_length, ms } or null
+//   result   the report of the last finished run (the CLI's --report JSON, cli.md, made by
+//            the core: quads measured, seconds in the worker)
 //   runs     after compareCharts(): { unit, rect, quad } each { distortion, history, ms }
 //   run(options?) → Promise<report>: solve with the card's options, overridden by
 //            { iterations, chart: 'quad'|'rect'|'unit'|'' , align, edge }; rejects on error
 //   cancel() stops the run in progress
 //   compareCharts(options?) → Promise<runs>
-//   setView('surface'|'checker'|'distortion'), showRun('unit'|'rect'|'quad'),
+//   remesh(edge?) → Promise<report>: the quad mesh of the shown run again (new edge length)
+//   setView('surface'|'checker'|'distortion'|'quads'), showRun('unit'|'rect'|'quad'),
 //   showCharts(bool) → Promise (settles when the chart panel is drawn)
-//   exportFile('param-obj'|'quad-obj'|'quad-ply'|'quad-glb') → Promise<{ name, size }>
+//   exportFile('param-obj'|'cut-obj'|'quad-obj'|'quad-ply'|'quad-glb') → Promise<{ name, size }>
 //            (also offered as a download)
 //   setOptions({ iterations, chart, align, edge }) fills the card's fields
 import { CoreError } from './client.js';
@@ -72,8 +75,10 @@ export class Solver {
     Object.assign(quadlay, {
       solve: { state: 'idle' },
       param: null,
+      quads: null,
       result: null,
       runs: null,
+      remesh: (edge) => this.remeshShown(edge),
       run: (options) => this.run(options),
       cancel: () => this.cancel(),
       compareCharts: (options) => this.compare(options),
@@ -104,7 +109,10 @@ export class Solver {
       $('quads-toggle').setAttribute('aria-pressed', String(on));
       this.view.setShowQuads(on);
     });
-    $('opt-edge').addEventListener('change', () => this.view.setCell(this.edgeLength()));
+    $('opt-edge').addEventListener('change', () => {
+      this.view.setCell(this.edgeLength());
+      if (this.shown !== null && !this.current) this.remeshShown().catch(() => {});
+    });
     const exports = $('export-buttons');
     for (const [what, { label }] of Object.entries(EXPORTS)) {
       const b = document.createElement('button');
@@ -194,7 +202,9 @@ export class Solver {
     $('solve-results').hidden = true;
     $('compare-runs').hidden = true;
     $('solve-stats').replaceChildren();
-    Object.assign(this.quadlay, { param: null, result: null, runs: null });
+    Object.assign(this.quadlay, { param: null, quads: null, result: null, runs: null });
+    this.hasQuads = false;
+    $('quads-toggle').hidden = true;
     this.quadlay.solve = { state: 'idle' };
     $('solve-progress').hidden = true;
   }
@@ -208,7 +218,8 @@ export class Solver {
   async run(overrides = {}) {
     this.setOptions(overrides);
     const options = { ...this.options(), ...pick(overrides, ['iterations', 'chart', 'align']) };
-    return this.runJob(options.iterations + 2, async (token, progress) => {
+    const steps = options.iterations + 2;
+    return this.runJob(steps + 1, async (token, progress) => {
       const t0 = performance.now();
       const result = await this.solveOnce(options, options.chart, token, progress, 0);
       const ms = performance.now() - t0;
@@ -218,6 +229,8 @@ export class Solver {
       this.quadlay.runs = null;
       await this.show(options.chart);
       this.quadlay.param.ms = performance.now() - t0;
+      this.setProgress(steps, steps + 1, 'Extracting the quad mesh…', 'running');
+      await this.remesh(token);
       return this.quadlay.result;
     });
   }
@@ -230,7 +243,7 @@ export class Solver {
     this.setOptions(overrides);
     const options = { ...this.options(), ...pick(overrides, ['iterations', 'align']) };
     const steps = options.iterations + 2;
-    return this.runJob(3 * steps, async (token, progress) => {
+    return this.runJob(3 * steps + 1, async (token, progress) => {
       this.results.clear();
       for (const [i, chart] of CHARTS.entries()) {
         const t0 = performance.now();
@@ -244,6 +257,7 @@ export class Solver {
       );
       this.renderCompare();
       await this.show('quad');
+      await this.remesh(token);
       return this.quadlay.runs;
     });
   }
@@ -315,6 +329,52 @@ export class Solver {
     return result;
   }
 
+  /**
+   * Extracts and shows the quad mesh of the active run. An extraction error is shown, but
+   * the parameterization stays (it is fine; the layout's counts or the edge length are not).
+   */
+  async remesh(token = null) {
+    const edge = this.edgeLength();
+    const t0 = performance.now();
+    let q;
+    try {
+      if (token) token.waiting = true;
+      q = await this.client.remesh({ edge_length: edge });
+    } catch (err) {
+      if (token?.cancelled) throw new Cancelled();
+      this.view.setQuads(null);
+      this.hasQuads = false;
+      $('quads-toggle').hidden = true;
+      this.quadlay.quads = null;
+      throw Object.assign(new Error(`no quad mesh: ${err?.message || err}`), { title: 'Could not extract the quad mesh' });
+    } finally {
+      if (token) token.waiting = false;
+    }
+    if (token?.cancelled) throw new Cancelled();
+    this.view.setQuads(q);
+    this.hasQuads = true;
+    $('quads-toggle').hidden = false;
+    const ms = performance.now() - t0;
+    this.quadlay.quads = { vertices: q.vertices, faces: q.faces, edge_length: edge, ms };
+    this.quadlay.result = q.report;
+    this.renderStats(this.results.get(this.shown).result, this.results.get(this.shown).ms, q.report);
+    this.setButtons();
+    await this.viewer.nextFrame();
+    return q.report;
+  }
+
+  /** The quad mesh of the shown run again, e.g. for a new edge length. */
+  async remeshShown(edge) {
+    if (edge !== undefined) this.setOptions({ edge });
+    if (this.shown === null) throw new Error('solve first');
+    try {
+      return await this.remesh();
+    } catch (err) {
+      this.fail(err);
+      throw err;
+    }
+  }
+
   /** Cancels the run in progress (between steps; a long step restarts the worker). */
   cancel(reason = '') {
     const token = this.current;
@@ -344,8 +404,8 @@ export class Solver {
     this.quadlay.solve = { ...this.quadlay.solve, state: 'error', error: message };
     this.quadlay.error = message;
     this.setProgress(this.quadlay.solve.step ?? 0, this.quadlay.solve.total ?? 1, message, 'error');
-    this.panel.showError('Could not parameterize', message);
-    this.panel.setStatus('error', 'Parameterization failed');
+    this.panel.showError(err?.title || 'Could not parameterize', message);
+    this.panel.setStatus('error', err?.title ? 'Quad extraction failed' : 'Parameterization failed');
   }
 
   // ---- showing -------------------------------------------------------------------------
@@ -384,6 +444,7 @@ export class Solver {
     const previous = this.shown;
     if (previous !== name) await this.client.useParam(name, previous);
     await this.show(name);
+    await this.remeshShown().catch(() => {});
     return true;
   }
 
@@ -408,7 +469,7 @@ export class Solver {
     box.hidden = false;
   }
 
-  /** @param {'surface'|'checker'|'distortion'} mode */
+  /** @param {'surface'|'checker'|'distortion'|'quads'} mode */
   setMode(mode) {
     this.mode = mode;
     this.view.setMode(this.results.size ? mode : 'surface');
@@ -421,7 +482,7 @@ export class Solver {
     return this.charts.drawn;
   }
 
-  renderStats(result, ms) {
+  renderStats(result, ms, report = null) {
     const d = result.distortion;
     const rows = [
       ['Iterations', String(result.history.length - 1)],
@@ -431,6 +492,14 @@ export class Solver {
       ['Refined triangles', new Intl.NumberFormat('en-US').format(result.triangles)],
       ['Solve time', `${(ms / 1000).toFixed(2)} s`],
     ];
+    if (report) {
+      const q = report.quads;
+      const fmt = new Intl.NumberFormat('en-US');
+      rows.push(['Quads', fmt.format(q.faces)], ['Quad vertices', fmt.format(q.vertices)], ['Irregular vertices', fmt.format(q.irregular_vertices)]);
+      if (q.flipped_quads !== undefined) rows.push(['Flipped quads', fmt.format(q.flipped_quads)]);
+      if (q.angle_deviation_mean_deg !== undefined) rows.push(['Angle deviation', `${q.angle_deviation_mean_deg.toFixed(1)}° mean`]);
+      rows.push(['Extraction time', `${report.seconds.mesh.toFixed(2)} s`]);
+    }
     const dl = $('solve-stats');
     dl.replaceChildren();
     for (const [k, v] of rows) {

@@ -53,10 +53,20 @@ const handlers = {
     if (!session) throw new Error('load a mesh first');
     return { result: session.useParam(name, previous ?? undefined) };
   },
+  [MSG.REMESH]({ options = {} }) {
+    if (!session) throw new Error('load a mesh first');
+    const report = session.remesh(options);
+    const view = quadView(session.quadPositions(), session.quadIndices());
+    return {
+      result: { report, ...view },
+      transfer: [view.positions.buffer, view.index.buffer, view.normal.buffer, view.segments.buffer],
+    };
+  },
   [MSG.EXPORT]({ what }) {
     if (!session) throw new Error('load a mesh first');
     const [bytes, mime] = {
       'param-obj': () => [session.paramObj(), 'model/obj'],
+      'cut-obj': () => [session.cutObj(), 'model/obj'],
       'quad-obj': () => [session.quadFile('obj'), 'model/obj'],
       'quad-ply': () => [session.quadFile('ply'), 'application/octet-stream'],
       'quad-glb': () => [session.quadFile('glb'), 'model/gltf-binary'],
@@ -65,6 +75,44 @@ const handlers = {
     return { result: { bytes: bytes.buffer, mime }, transfer: [bytes.buffer] };
   },
 };
+
+/**
+ * The quad mesh as three.js draws it: shaded (two triangles per quad, smooth normals) and
+ * its edges as line segments, each edge once.
+ */
+function quadView(positions, quads) {
+  const nv = positions.length / 3;
+  const nq = quads.length / 4;
+  const index = new Uint32Array(6 * nq);
+  const normal = new Float32Array(3 * nv);
+  const edges = new Set();
+  const ends = [];
+  for (let q = 0; q < nq; q++) {
+    const c = quads.subarray(4 * q, 4 * q + 4);
+    index.set([c[0], c[1], c[2], c[0], c[2], c[3]], 6 * q);
+    // The quad's normal from its diagonals, added to its corners (area-weighted).
+    const p = (k) => 3 * c[k];
+    const dx = [0, 1, 2].map((i) => positions[p(2) + i] - positions[p(0) + i]);
+    const ex = [0, 1, 2].map((i) => positions[p(3) + i] - positions[p(1) + i]);
+    const n = [dx[1] * ex[2] - dx[2] * ex[1], dx[2] * ex[0] - dx[0] * ex[2], dx[0] * ex[1] - dx[1] * ex[0]];
+    for (let k = 0; k < 4; k++) {
+      for (let i = 0; i < 3; i++) normal[p(k) + i] += n[i];
+      const a = c[k], b = c[(k + 1) % 4];
+      const key = a < b ? a * nv + b : b * nv + a;
+      if (!edges.has(key)) {
+        edges.add(key);
+        ends.push(a, b);
+      }
+    }
+  }
+  for (let v = 0; v < nv; v++) {
+    const l = Math.hypot(normal[3 * v], normal[3 * v + 1], normal[3 * v + 2]) || 1;
+    for (let i = 0; i < 3; i++) normal[3 * v + i] /= l;
+  }
+  const segments = new Float32Array(3 * ends.length);
+  ends.forEach((v, i) => segments.set(positions.subarray(3 * v, 3 * v + 3), 3 * i));
+  return { vertices: nv, faces: nq, positions, index, normal, segments };
+}
 
 /**
  * The active run's refined mesh as three.js draws it: one vertex per triangle corner, so
