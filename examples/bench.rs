@@ -4,7 +4,8 @@
 //! argument `MESH@LAYOUT`, also of placing the layout (tracing its curves, faces, patches)
 //! and of parameterizing with it (initial solve, 3 chart-optimization iterations, final
 //! solve; once, with each stage's time).
-//! Prints one JSON object per mesh.
+//! Prints one JSON object per mesh. `--subdivide IN OUT` instead writes IN split 1-to-4 (each
+//! triangle into four at its edge midpoints: the same surface, 4× the triangles) as OBJ.
 
 use quadlay::io::read_mesh;
 use quadlay::layout::{build_layout, parse_layout};
@@ -41,8 +42,17 @@ fn param_stages(mesh: &quadlay::mesh::Mesh, layout: &quadlay::layout::SurfaceLay
     let fin = s.finish().map(|d| d.mean).unwrap_or(f64::NAN);
     let final_ms = t.elapsed().as_secs_f64() * 1e3;
     let st = s.stage_times();
+    let t = Instant::now();
+    let quads = quadlay::quad::extract(layout, &s, &quadlay::quad::QuadOptions::for_mesh(mesh));
+    let mesh_ms = t.elapsed().as_secs_f64() * 1e3;
+    let t = Instant::now();
+    let n_quads = quads.map_or(0, |(q, _)| {
+        std::hint::black_box(quadlay::quad::quality::measure(mesh, &q));
+        q.quads.len()
+    });
+    let quality_ms = t.elapsed().as_secs_f64() * 1e3;
     format!(
-        ",\"param_initial_ms\":{initial:.1},\"param_3_iterations_ms\":{iterations:.1},\"param_final_ms\":{final_ms:.1},\"param_total_ms\":{:.1},\"distortion\":{fin:.4},\"param_stages_ms\":{{\"assembly\":{:.1},\"symbolic\":{:.1},\"factor\":{:.1},\"solve\":{:.1},\"chart_optimization\":{:.1}}}",
+        ",\"mesh_ms\":{mesh_ms:.1},\"quality_ms\":{quality_ms:.1},\"quads\":{n_quads},\"param_initial_ms\":{initial:.1},\"param_3_iterations_ms\":{iterations:.1},\"param_final_ms\":{final_ms:.1},\"param_total_ms\":{:.1},\"distortion\":{fin:.4},\"param_stages_ms\":{{\"assembly\":{:.1},\"symbolic\":{:.1},\"factor\":{:.1},\"solve\":{:.1},\"chart_optimization\":{:.1}}}",
         initial + iterations + final_ms,
         st.assembly * 1e3,
         st.symbolic * 1e3,
@@ -85,8 +95,40 @@ fn laplacian_reference_ms(mesh: &quadlay::mesh::Mesh) -> f64 {
     })
 }
 
+/// Splits every triangle into four at its edge midpoints.
+fn subdivide(mesh: &quadlay::mesh::Mesh) -> (Vec<[f64; 3]>, Vec<u32>) {
+    let mut positions = mesh.positions().to_vec();
+    let mut mid = std::collections::HashMap::new();
+    let mut faces = Vec::with_capacity(12 * mesh.n_faces());
+    for t in mesh.triangles() {
+        let m: Vec<u32> = (0..3)
+            .map(|k| {
+                let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+                *mid.entry((a, b)).or_insert_with(|| {
+                    let (p, q) = (positions[a as usize], positions[b as usize]);
+                    positions.push([(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, (p[2] + q[2]) / 2.0]);
+                    (positions.len() - 1) as u32
+                })
+            })
+            .collect();
+        faces.extend_from_slice(&[t[0], m[0], m[2], m[0], t[1], m[1], m[2], m[1], t[2], m[0], m[1], m[2]]);
+    }
+    (positions, faces)
+}
+
 fn main() {
-    for arg in std::env::args().skip(1) {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let [flag, input, output] = args.as_slice() {
+        if flag == "--subdivide" {
+            let bytes = std::fs::read(input).unwrap_or_else(|e| panic!("{input}: {e}"));
+            let mesh = read_mesh(&bytes, input).unwrap_or_else(|e| panic!("{input}: {e}")).mesh;
+            let (positions, faces) = subdivide(&mesh);
+            let obj = quadlay::io::write_obj(quadlay::io::Polygons { positions: &positions, faces: &faces, arity: 3 }, None);
+            std::fs::write(output, obj).unwrap_or_else(|e| panic!("{output}: {e}"));
+            return;
+        }
+    }
+    for arg in args {
         let (path, layout_path) = match arg.split_once('@') {
             Some((m, l)) => (m.to_string(), Some(l.to_string())),
             None => (arg.clone(), None),

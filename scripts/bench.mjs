@@ -10,11 +10,18 @@ import { fileURLToPath } from 'node:url';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const MESHES = ['nefertiti.obj', 'eight.obj', 'bunny_1k8.obj', 'mushroom.obj', 'fandisk.obj',
-  'bunny_28k.obj', 'elephant_44k.obj'];
-const paths = MESHES.map((m) => join(root, '..', 'shared', 'meshes', m));
-// The sample layout timed on each mesh (www/layouts), as in the page's gallery.
+  'bunny_28k.obj', 'elephant_44k.obj', 'bunny_28k_x4.obj'];
+// bunny_28k split 1-to-4 (~112k vertices), made here: the same surface, 4× the triangles.
+const generated = join(root, 'target', 'bench');
+mkdirSync(generated, { recursive: true });
+execFileSync('cargo', ['run', '--quiet', '--release', '--example', 'bench', '--', '--subdivide',
+  join(root, '..', 'shared', 'meshes', 'bunny_28k.obj'), join(generated, 'bunny_28k_x4.obj')],
+{ cwd: root, stdio: ['ignore', 'inherit', 'inherit'] });
+const paths = MESHES.map((m) => (m.endsWith('_x4.obj') ? join(generated, m) : join(root, '..', 'shared', 'meshes', m)));
+// The sample layout timed on each mesh (www/layouts), as in the page's gallery; its nodes are
+// points, so it fits the subdivided bunny too.
 const LAYOUTS = { 'fandisk.obj': 'fandisk-cube', 'mushroom.obj': 'mushroom-t', 'eight.obj': 'eight-rims',
-  'bunny_28k.obj': 'bunny-cube' };
+  'bunny_28k.obj': 'bunny-cube', 'bunny_28k_x4.obj': 'bunny-cube' };
 const layoutPath = (m) => LAYOUTS[m] && join(root, 'www', 'layouts', `${LAYOUTS[m]}.layout.json`);
 
 console.log('bench: native (cargo run --release --example bench)');
@@ -49,6 +56,11 @@ const wasm = MESHES.map((mesh, i) => {
     for (let k = 0; k < 3; k++) s.stepParam();
     s.finishParam();
     row.param_total_ms = Number((performance.now() - t0).toFixed(1));
+    const t1 = performance.now();
+    const report = s.remesh({});
+    row.mesh_and_quality_ms = Number((performance.now() - t1).toFixed(1));
+    row.quads = report.quads.faces;
+    row.pipeline_ms = Number((row.load_ms + row.layout_ms + row.param_total_ms + row.mesh_and_quality_ms).toFixed(1));
     s.free();
   }
   return row;
@@ -59,7 +71,9 @@ const results = {
   machine: { cpus: cpus().length, cpu: cpus()[0]?.model, node: process.version },
   what: 'median ms. load: bytes to validated halfedge mesh (parse + connectivity); ' +
     'layout: placing the sample layout (curves, faces, patches); param: initial solve + 3 ' +
-    'chart-optimization iterations + final solve, one run',
+    'chart-optimization iterations + final solve, one run; mesh: quad extraction (native), ' +
+    'quality: quality measures (native); wasm mesh_and_quality: both; pipeline: load + layout + ' +
+    'param + mesh + quality',
   native,
   wasm_node: wasm,
 };
@@ -75,9 +89,12 @@ for (const n of native) {
     `   reference ${n.laplacian_cholesky_ms.toFixed(1)}`);
 }
 const cell = (x, w) => (x === undefined ? '-' : x.toFixed(2)).padStart(w);
-console.log('\nmesh               triangles  load native   wasm  layout native   wasm  param native     wasm  (ms)');
+console.log('\nmesh               triangles  load native   wasm  layout native   wasm  param native     wasm' +
+  '  mesh+quality native    wasm  pipeline wasm  (ms)');
 for (const [i, n] of native.entries()) {
+  const mq = n.mesh_ms === undefined ? undefined : n.mesh_ms + n.quality_ms;
   console.log(`${n.mesh.padEnd(18)} ${String(n.triangles).padStart(9)}  ${cell(n.load_ms, 11)} ${cell(wasm[i].load_ms, 6)}` +
-    `  ${cell(n.layout_ms, 13)} ${cell(wasm[i].layout_ms, 6)}  ${cell(n.param_total_ms, 12)} ${cell(wasm[i].param_total_ms, 8)}`);
+    `  ${cell(n.layout_ms, 13)} ${cell(wasm[i].layout_ms, 6)}  ${cell(n.param_total_ms, 12)} ${cell(wasm[i].param_total_ms, 8)}` +
+    `  ${cell(mq, 19)} ${cell(wasm[i].mesh_and_quality_ms, 7)}  ${cell(wasm[i].pipeline_ms, 13)}`);
 }
 console.log('\nbench: written to bench/results.json');
