@@ -394,7 +394,7 @@ export class Editor {
 
     // Nodes: dots, coloured by role; error halos drawn through the surface.
     const tVertices = new Set((this.view?.summary.face_list ?? []).flatMap((f) => f.t_vertices));
-    const dot = new THREE.SphereGeometry(r * 0.013, 14, 10);
+    const dot = new THREE.SphereGeometry(r * 0.015, 14, 10);
     const nodes = this.nodeVertex.map((v, n) => [v, n]).filter(([v]) => v >= 0);
     if (nodes.length) {
       const mesh = new THREE.InstancedMesh(dot, new THREE.MeshBasicMaterial(), nodes.length);
@@ -422,7 +422,7 @@ export class Editor {
         if (p) handles.push([p, i, k]);
       }));
       if (handles.length) {
-        const mesh = new THREE.InstancedMesh(new THREE.SphereGeometry(r * 0.01, 12, 8), new THREE.MeshBasicMaterial(), handles.length);
+        const mesh = new THREE.InstancedMesh(new THREE.SphereGeometry(r * 0.014, 12, 8), new THREE.MeshBasicMaterial(), handles.length);
         const m = new THREE.Matrix4();
         const c = new THREE.Color();
         handles.forEach(([p, i, k], j) => {
@@ -452,7 +452,7 @@ export class Editor {
       halo.renderOrder = 5;
       this.layer.add(halo);
     }
-    this.updateLabels();
+    this.updateLabels({ now: true });
     this.viewer.requestRender();
   }
 
@@ -481,6 +481,8 @@ export class Editor {
 
   /** The ghost dot (where a click would put a node) and the rubber band of edge mode. */
   drawTransient(target, { ghost = true } = {}) {
+    // Nothing shown and nothing to show: no frame to draw.
+    if (!target && !this.drag?.target && !this.transient.children.length) return;
     disposeChildren(this.transient);
     if (target && ghost) {
       const dot = new THREE.Mesh(
@@ -500,7 +502,14 @@ export class Editor {
       line.renderOrder = 6;
       this.transient.add(line);
     }
-    if (this.drag?.target) {
+    if (this.drag?.curve) {
+      // The core's curve through the waypoint where it is now.
+      const g = new LineGeometry();
+      g.setPositions(this.drag.curve);
+      const line = new Line2(g, this.material('hover', { width: 4 }));
+      line.renderOrder = 6;
+      this.transient.add(line);
+    } else if (this.drag?.target) {
       const { edge, k, insert } = this.drag;
       const e = this.doc.edges[edge];
       const via = (e.via ?? []).map((w) => this.viaPosition(w));
@@ -654,9 +663,10 @@ export class Editor {
     {
       if (this.drag) {
         const hit = this.surfaceAt(p.x, p.y);
-        if (hit) {
+        if (hit && hit.vertex !== this.drag.vertex) {
           this.drag.vertex = hit.vertex;
           this.drag.target = this.position(hit.vertex);
+          this.previewDrag();
         }
         this.drawTransient(this.drag.target);
         return;
@@ -681,21 +691,61 @@ export class Editor {
     const moved = Math.hypot(event.clientX - this.down.x, event.clientY - this.down.y);
     this.down = null;
     if (this.drag) {
-      const drag = this.drag;
-      this.drag = null;
-      this.viewer.controls.enabled = true;
-      if (this.canvas.hasPointerCapture(event.pointerId)) this.canvas.releasePointerCapture(event.pointerId);
-      this.drawTransient(null);
+      const drag = this.endDrag(event.pointerId);
       if (drag.vertex >= 0 && moved > CLICK_SLOP) {
-        const doc = drag.insert
-          ? L.insertVia(this.doc, drag.edge, drag.k, drag.vertex)
-          : L.moveVia(this.doc, drag.edge, drag.k, drag.vertex);
-        this.apply(doc, { label: drag.insert ? 'bend edge' : 'move waypoint' });
+        this.apply(this.dragDoc(drag), { label: drag.insert ? 'bend edge' : 'move waypoint' });
+      } else if (drag.previewed) {
+        this.apply(this.doc, { record: false, save: false }); // the worker holds a preview
       }
       return;
     }
     if (moved > CLICK_SLOP || event.target !== this.canvas) return;
     this.click(event.clientX, event.clientY);
+  }
+
+  /** The document with the dragged waypoint where the pointer is. */
+  dragDoc(drag) {
+    return drag.insert
+      ? L.insertVia(this.doc, drag.edge, drag.k, drag.vertex)
+      : L.moveVia(this.doc, drag.edge, drag.k, drag.vertex);
+  }
+
+  /**
+   * Has the core trace the dragged edge through the waypoint's current place, one request
+   * at a time (the latest place wins), so the curve follows the pointer.
+   */
+  async previewDrag() {
+    const drag = this.drag;
+    if (!drag || !(drag.vertex >= 0)) return;
+    if (drag.inFlight) {
+      drag.stale = true;
+      return;
+    }
+    drag.inFlight = true;
+    drag.stale = false;
+    drag.previewed = true;
+    let curve = null;
+    try {
+      const view = await this.client.setLayout(JSON.stringify(this.dragDoc(drag)));
+      curve = view.curves.find((c) => c.source === `edges[${drag.edge}]`)?.points ?? null;
+    } catch {
+      // an invalid place: the dashed lines show it until the next one
+    }
+    drag.inFlight = false;
+    if (this.drag !== drag) return;
+    drag.curve = curve;
+    this.drawTransient(drag.target);
+    if (drag.stale) this.previewDrag();
+  }
+
+  /** Stops a waypoint drag; returns it. */
+  endDrag(pointerId) {
+    const drag = this.drag;
+    this.drag = null;
+    this.viewer.controls.enabled = true;
+    if (pointerId != null && this.canvas.hasPointerCapture(pointerId)) this.canvas.releasePointerCapture(pointerId);
+    this.drawTransient(null);
+    return drag;
   }
 
   /** A click at page pixel (x, y) in the current mode. */
@@ -849,7 +899,11 @@ export class Editor {
     }
     if (event.altKey) return;
     if (key === 'escape') {
-      if (this.pending != null) {
+      if (this.drag) {
+        const drag = this.endDrag();
+        this.down = null;
+        if (drag.previewed) this.apply(this.doc, { record: false, save: false });
+      } else if (this.pending != null) {
         this.pending = null;
         this.draw();
         this.drawTransient(null);
@@ -1045,29 +1099,37 @@ export class Editor {
     else if (!this.history.canUndo) autosave.removeSaved(this.storageKey);
   }
 
-  /** Chart-type labels at the faces, in Chart mode. */
-  updateLabels() {
+  /**
+   * Chart-type labels on the faces, in Chart mode: each at the visible vertex of its face
+   * nearest to the face's middle on screen. Placed once the camera rests (the labels hide
+   * while it moves), at a cost of the layout's size.
+   */
+  updateLabels({ now = false } = {}) {
+    clearTimeout(this.labelTimer);
     const show = this.mode === 'chart' && this.view && this.mesh;
-    if (!show) {
+    if (!show || !now) {
       if (this.labels.childElementCount) this.labels.replaceChildren();
+      if (show) this.labelTimer = setTimeout(() => this.updateLabels({ now: true }), 120);
       return;
     }
     if (this.labelView !== this.view) {
       this.labelView = this.view;
-      this.faceCentres = faceCentres(this.mesh.positions, this.view.vertex_face, this.view.summary.faces);
+      this.faceSamples = faceSamples(this.view.vertex_face, this.view.summary.faces, 48);
     }
     const rect = this.viewport.getBoundingClientRect();
     const items = this.view.summary.face_list.map((face, f) => {
-      const v = this.faceCentres[f];
-      if (v < 0) return null;
-      const p = this.position(v);
-      const s = this.screenOf(p);
-      if (!s || !this.visible(p)) return null;
+      const seen = this.faceSamples[f].map((v) => [v, this.screenOf(v)]).filter(([, s]) => s);
+      if (!seen.length) return null;
+      const mx = seen.reduce((a, [, s]) => a + s.x, 0) / seen.length;
+      const my = seen.reduce((a, [, s]) => a + s.y, 0) / seen.length;
+      seen.sort((a, b) => Math.hypot(a[1].x - mx, a[1].y - my) - Math.hypot(b[1].x - mx, b[1].y - my));
+      const at = seen.find(([v]) => this.visible(this.position(v)));
+      if (!at) return null;
       const tag = document.createElement('span');
       tag.className = `chart-label chart-${face.chart}`;
       tag.textContent = face.chart;
-      tag.style.left = `${s.x - rect.left}px`;
-      tag.style.top = `${s.y - rect.top}px`;
+      tag.style.left = `${at[1].x - rect.left}px`;
+      tag.style.top = `${at[1].y - rect.top}px`;
       return tag;
     }).filter(Boolean);
     this.labels.replaceChildren(...items);
@@ -1109,6 +1171,8 @@ export class Editor {
         const hit = ed.pick(x, y);
         return hit && { kind: hit.kind, index: hit.index, via: hit.via, vertex: hit.vertex, point: hit.point };
       },
+      /** The layout face (index into summary.face_list) under page pixel (x, y), or -1. */
+      faceAt: (x, y) => ed.faceAt(ed.surfaceAt(x, y) && { kind: 'surface', ...ed.surfaceAt(x, y) }),
       /** The mesh vertex a node placed at page pixel (x, y) would snap to, or -1. */
       vertexAt: (x, y) => ed.surfaceAt(x, y)?.vertex ?? -1,
     };
@@ -1131,23 +1195,17 @@ function nearestPointIndex(pts, p) {
   return best;
 }
 
-/** Per face, the vertex of the face nearest to the mean of its vertices (-1 if none). */
-function faceCentres(positions, vertexFace, faces) {
-  const sum = new Float64Array(3 * faces);
-  const count = new Uint32Array(faces);
+/** Per face, up to `count` of its vertices, evenly spread over the face's vertex list. */
+function faceSamples(vertexFace, faces, count) {
+  const lists = Array.from({ length: faces }, () => []);
   vertexFace.forEach((f, v) => {
-    if (f < 0) return;
-    count[f]++;
-    for (let k = 0; k < 3; k++) sum[3 * f + k] += positions[3 * v + k];
+    if (f >= 0) lists[f].push(v);
   });
-  const best = new Int32Array(faces).fill(-1);
-  const bestD = new Float64Array(faces).fill(Infinity);
-  vertexFace.forEach((f, v) => {
-    if (f < 0) return;
-    const d = dist2(positions, v, [0, 1, 2].map((k) => sum[3 * f + k] / count[f]));
-    if (d < bestD[f]) { bestD[f] = d; best[f] = v; }
+  return lists.map((l) => {
+    if (l.length <= count) return l;
+    const step = l.length / count;
+    return Array.from({ length: count }, (_, k) => l[Math.floor(k * step)]);
   });
-  return best;
 }
 
 function disposeChildren(group) {

@@ -22,6 +22,7 @@
 //     screenOf(vertex | [x,y,z]) → { x, y } page pixels (null behind the camera)
 //     pick(x, y)     what a click there hits: { kind: 'node'|'edge'|'via'|'surface', index, vertex }
 //     vertexAt(x, y) the mesh vertex a node placed there snaps to (-1 off the mesh)
+//     faceAt(x, y)   the layout face there (index into summary.face_list), -1 if none
 // `?mesh=URL` loads that mesh instead of the first sample, `&layout=URL` a layout on it,
 // `&view=x,y,z` looks from that direction.
 // Shareable links: `?mesh=URL&layout=URL&run=1` loads both and, with `run=1`, solves (and

@@ -283,10 +283,19 @@ test('crossing curves are named and drawn red; undo takes the edge back', async 
 
 test('a face gets a rect chart; an edge bends through a dragged waypoint', async () => {
   await key('c');
-  const face = await editor((ed) => ed.summary.face_list[0].corners);
-  // Click inside the face: near its first corner, towards the top.
-  const [a, b] = await editor((ed, c) => [ed.screenOf(ed.nodeVertices[c[0]]), ed.screenOf(ed.nodeVertices[c[2]])], face);
-  const p = { x: a.x + (b.x - a.x) * 0.3, y: a.y + (b.y - a.y) * 0.3 };
+  // A pixel on face 0, between its first corner and the middle of the view.
+  const p = await editor((ed) => {
+    const corners = ed.summary.face_list[0].corners.map((n) => ed.screenOf(ed.nodeVertices[n]));
+    const c = corners.reduce((a, b) => ({ x: a.x + b.x / 4, y: a.y + b.y / 4 }), { x: 0, y: 0 });
+    for (const s of [0.5, 0.4, 0.6, 0.3, 0.7, 0.2, 0.8]) {
+      for (const k of [0, 1, 2, 3]) {
+        const q = { x: corners[k].x + (c.x - corners[k].x) * s, y: corners[k].y + (c.y - corners[k].y) * s };
+        if (ed.faceAt(q.x, q.y) === 0 && ed.pick(q.x, q.y)?.kind === 'surface') return q;
+      }
+    }
+    return null;
+  });
+  assert.ok(p, 'no pixel on face 0');
   await page.mouse.click(p.x, p.y);
   await settled();
   const d = await doc();
@@ -302,6 +311,10 @@ test('a face gets a rect chart; an edge bends through a dragged waypoint', async
   await page.mouse.down();
   await page.mouse.move(from.x + 20, from.y - 10, { steps: 5 });
   await page.mouse.move(from.x + 40, from.y - 25, { steps: 5 });
+  // While dragging, the core's curve through the waypoint follows the pointer.
+  await page.waitForFunction(() => !window.quadlay.editor.checking);
+  await page.waitForTimeout(300);
+  await shoot('9-bending');
   await page.mouse.up();
   await settled();
   const bent = await doc();
