@@ -55,8 +55,10 @@ export class Editor {
    * @param {import('./client.js').CoreClient} o.client
    * @param {HTMLElement} o.viewport the element around the canvas (toolbar and hints go in it)
    * @param {(summary: object|null, error: string|null) => void} [o.onChange] after every check
+   * @param {() => void} [o.onCoreLost] the worker lost the mesh (it crashed): load it again
    */
-  constructor({ viewer, client, viewport, onChange = () => {} }) {
+  constructor({ viewer, client, viewport, onChange = () => {}, onCoreLost = null }) {
+    this.onCoreLost = onCoreLost;
     this.viewer = viewer;
     this.client = client;
     this.viewport = viewport;
@@ -113,6 +115,17 @@ export class Editor {
    * @param {string} name the mesh file's name
    */
   setMesh(mesh, name) {
+    const key = autosave.meshKey(name, mesh.summary);
+    if (this.recovering && key === this.storageKey) {
+      // The same mesh again after the worker was restarted: keep the layout and its history.
+      this.recovering = false;
+      this.mesh = { positions: mesh.positions, triangles: mesh.triangles, summary: mesh.summary, name };
+      this.bvh = null;
+      this.boundary = null;
+      this.apply(this.doc, { record: false, save: false });
+      return;
+    }
+    this.recovering = false;
     this.mesh = { positions: mesh.positions, triangles: mesh.triangles, summary: mesh.summary, name };
     this.bvh = null;
     this.boundary = null;
@@ -129,7 +142,7 @@ export class Editor {
     this.nodeVertex = [];
     this.history.clear(this.doc);
     this.layoutName = `${name.replace(/\.[^.]+$/, '')}.layout.json`;
-    this.storageKey = autosave.meshKey(name, mesh.summary);
+    this.storageKey = key;
     this.radius = this.viewer.radius;
     // Built when the browser is idle, before the first pointer move needs it.
     const build = () => this.ensureBvh();
@@ -210,9 +223,14 @@ export class Editor {
         this.history.undo();
         return this.apply(fixed, { label, record, save });
       }
-      this.error = error?.fatal
-        ? `${message}. Reload the page to go on: your layout is saved in this browser.`
-        : message;
+      const lost = error?.fatal || /^load a mesh/.test(message);
+      if (lost && this.onCoreLost && !this.recovering) {
+        this.recovering = true;
+        this.error = 'The quadlay core stopped; it restarts with this mesh and your layout…';
+        this.onCoreLost();
+      } else {
+        this.error = lost ? `${message}. Reload the page: your layout is saved in this browser.` : message;
+      }
       this.problem = L.problemOf(message, doc);
       this.viewer.setSurfaceColors(null);
     }
@@ -382,6 +400,7 @@ export class Editor {
       let kind = e.align ? 'aligned' : 'free';
       if (problem.edges.has(i)) kind = 'error';
       const hovered = hover?.kind === 'edge' && hover.index === i;
+      if (hovered && this.mode === 'delete') kind = 'error';
       const width = hovered ? (kind === 'aligned' || kind === 'error' ? 8 : 5) : undefined;
       const g = new LineGeometry();
       g.setPositions(points);
@@ -750,7 +769,11 @@ export class Editor {
 
   /** A click at page pixel (x, y) in the current mode. */
   click(x, y) {
-    const hit = this.pick(x, y);
+    let hit = this.pick(x, y);
+    if (hit?.kind === 'surface' && this.nodeVertex.includes(hit.vertex)) {
+      const n = this.nodeVertex.indexOf(hit.vertex);
+      hit = { kind: 'node', index: n, point: this.position(hit.vertex) };
+    }
     const doc = this.doc;
     switch (this.mode) {
       case 'node': {
@@ -758,7 +781,6 @@ export class Editor {
         if (hit.kind === 'edge') return this.splitAt(hit);
         if (hit.kind === 'node') return this.say(`nodes[${hit.index}] is already here`);
         if (hit.kind !== 'surface') return;
-        if (this.nodeVertex.includes(hit.vertex)) return this.say('there is a node on this vertex already');
         return this.apply(L.addNode(doc, hit.vertex)[0], { label: 'add node' });
       }
       case 'edge': {
@@ -787,7 +809,6 @@ export class Editor {
           if (!split) return;
           [next, n] = split;
         } else if (hit.kind === 'surface') {
-          if (this.nodeVertex.includes(hit.vertex)) return;
           [next, n] = L.addNode(doc, hit.vertex);
         } else {
           return;
@@ -1155,6 +1176,8 @@ export class Editor {
       get canRedo() { return ed.history.canRedo; },
       get offer() { return ed.offer ? { time: ed.offer.time, doc: structuredClone(ed.offer.doc) } : null; },
       get layoutName() { return ed.layoutName; },
+      /** Stops the worker as a crash would (for tests): the next edit finds it restarted. */
+      stopCore: () => ed.client.terminate('the quadlay core was stopped (test)'),
       undo: () => ed.undo(),
       redo: () => ed.redo(),
       settled: () => ed.settled(),

@@ -23,6 +23,8 @@
 //     pick(x, y)     what a click there hits: { kind: 'node'|'edge'|'via'|'surface', index, vertex }
 //     vertexAt(x, y) the mesh vertex a node placed there snaps to (-1 off the mesh)
 //     faceAt(x, y)   the layout face there (index into summary.face_list), -1 if none
+//     stopCore()     stops the worker as a crash would; the next edit reloads the mesh into a
+//                    fresh one and places the layout again (for tests)
 // `?mesh=URL` loads that mesh instead of the first sample, `&layout=URL` a layout on it,
 // `&view=x,y,z` looks from that direction.
 // Shareable links: `?mesh=URL&layout=URL&run=1` loads both and, with `run=1`, solves (and
@@ -50,8 +52,18 @@ const client = new CoreClient();
 const viewer = createViewer();
 const solver = viewer ? new Solver({ client, viewer, quadlay, panel }) : null;
 const editor = viewer
-  ? new Editor({ viewer, client, viewport: $('viewport'), onChange: (summary) => { quadlay.layout = summary; } })
+  ? new Editor({
+    viewer,
+    client,
+    viewport: $('viewport'),
+    onChange: (summary) => { quadlay.layout = summary; },
+    // The worker lost the mesh (it crashed and was restarted): load it again; the editor
+    // keeps its layout and places it again.
+    onCoreLost: () => { if (shownSource) load(shownSource).catch(() => {}); },
+  })
   : null;
+/** Where the shown mesh came from (a URL or a File), to load it again after a crash. */
+let shownSource = null;
 quadlay.editor = editor?.api ?? null;
 /** Counts loads, so a load overtaken by a newer one does not overwrite it. */
 let latest = 0;
@@ -84,6 +96,7 @@ async function load(source) {
     await drawn;
     if (seq !== latest) return null;
     Object.assign(quadlay, { summary: mesh.summary, name, error: null, state: 'ready' });
+    shownSource = source;
     const ms = Math.round(performance.now() - t0);
     panel.setStatus('ready', `Loaded ${name} in ${fmt.format(ms)} ms`);
     return mesh.summary;

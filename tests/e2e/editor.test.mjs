@@ -355,6 +355,18 @@ test('after a reload the autosaved layout is offered and restored', async (t) =>
   await shoot('11-restored');
 });
 
+test('a crashed worker loses nothing: the mesh is loaded again and the layout placed', async () => {
+  await editor((ed) => ed.stopCore());
+  await key('a');
+  await clickEdge(1);
+  await waitFor((q) => !q.editor.checking && q.editor.summary && q.editor.doc.edges[1].align);
+  assert.equal(await editor((ed) => ed.error), null);
+  assert.equal(await editor((ed) => ed.summary.aligned_edges), 2);
+  await key('Control+z');
+  assert.deepEqual(await doc(), saved);
+  assert.equal(await editor((ed) => ed.summary.aligned_edges), 1);
+});
+
 test('deleting a node takes its edges with it', async () => {
   await key('d');
   const at = await editor((ed) => ed.screenOf(ed.nodeVertices[4]));
