@@ -82,6 +82,7 @@ export function deleteNode(doc, n) {
     next.patches = next.patches
       .filter((p) => !p.corners?.includes(n))
       .map((p) => ({ ...p, corners: p.corners.map(renumber) }));
+    if (!next.patches.length) delete next.patches;
   }
   return next;
 }
