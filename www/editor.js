@@ -143,6 +143,7 @@ export class Editor {
     this.history.clear(this.doc);
     this.layoutName = `${name.replace(/\.[^.]+$/, '')}.layout.json`;
     this.storageKey = key;
+    this.skip = this.seq; // the empty document is not sent to the core
     this.radius = this.viewer.radius;
     // Built when the browser is idle, before the first pointer move needs it.
     const build = () => this.ensureBvh();
@@ -193,18 +194,42 @@ export class Editor {
     if (this.pending != null && !(this.pending < (doc.nodes?.length ?? 0))) this.pending = null;
     this.hover = null;
     this.draw();
-    const seq = ++this.seq;
+    this.seq++;
+    this.lastEdit = { label, record, save };
     this.checking = true;
     this.updateUi();
-    let view = null;
-    let error = null;
-    try {
-      view = await this.client.setLayout(JSON.stringify(doc));
-    } catch (err) {
-      error = err;
-    }
-    if (seq !== this.seq) return; // a newer edit overtook this one
+    const done = this.settled();
+    if (!this.inFlight) this.check();
+    return done;
+  }
+
+  /**
+   * Has the core check the current document. One request at a time: edits made while it is
+   * away wait, and only the latest of them goes next (on a big mesh clicks come faster than
+   * the core places layouts).
+   */
+  async check() {
+    this.inFlight = true;
+    let seq, doc, view, error;
+    do {
+      seq = this.seq;
+      doc = this.doc;
+      view = null;
+      error = null;
+      try {
+        view = await this.client.setLayout(JSON.stringify(doc));
+      } catch (err) {
+        error = err;
+      }
+      if (this.skip === this.seq) {
+        // A new mesh came meanwhile, and nothing was edited on it yet.
+        this.inFlight = false;
+        return;
+      }
+    } while (seq !== this.seq);
+    this.inFlight = false;
     this.checking = false;
+    const { label, record, save } = this.lastEdit;
     if (view) {
       this.view = view;
       this.error = null;
@@ -221,7 +246,8 @@ export class Editor {
       if (stale && record && !label.startsWith('chart') && doc.patches?.[Number(stale[1])]) {
         const fixed = L.deletePatch(doc, Number(stale[1]));
         this.history.undo();
-        return this.apply(fixed, { label, record, save });
+        this.apply(fixed, { label, record, save });
+        return;
       }
       const lost = error?.fatal || /^load a mesh/.test(message);
       if (lost && this.onCoreLost && !this.recovering) {

@@ -248,6 +248,12 @@ test('tagging an edge for alignment, undo and redo', async () => {
   await settled();
   assert.equal((await doc()).edges[0].align, true);
   assert.equal(await editor((ed) => ed.summary.aligned_edges), 1);
+  // Edits faster than the core: only the last document counts, and its check is shown.
+  await editor((ed) => { ed.undo(); ed.undo(); ed.undo(); ed.redo(); ed.redo(); ed.redo(); });
+  await settled();
+  assert.equal((await doc()).edges[0].align, true);
+  assert.equal(await editor((ed) => ed.summary?.aligned_edges), 1);
+  assert.equal(await editor((ed) => ed.error), null);
 });
 
 test('a node dropped on an edge splits it at a T-vertex', async () => {
