@@ -81,7 +81,22 @@ export class ParamView {
       polygonOffsetFactor: 1,
       polygonOffsetUnits: 1,
     });
-    this.quadMaterial = new THREE.LineBasicMaterial({ color: 0x10131a, transparent: true, opacity: 0.85 });
+    // Quad edges are chords under a curved surface: drawn pulled towards the eye by a part
+    // of the edge length, so the finer surface does not hide half of each.
+    this.quadMaterial = new THREE.ShaderMaterial({
+      uniforms: { bias: { value: 0 }, color: { value: new THREE.Color(0x10131a) } },
+      vertexShader: /* glsl */ `
+        uniform float bias;
+        void main() {
+          vec4 mv = modelViewMatrix * vec4(position, 1.0);
+          mv.xyz -= normalize(mv.xyz) * bias;
+          gl_Position = projectionMatrix * mv;
+        }`,
+      fragmentShader: /* glsl */ `
+        uniform vec3 color;
+        void main() { gl_FragColor = vec4(color, 0.85); }`,
+      transparent: true,
+    });
     this.quadSurfaceMaterial = new THREE.MeshStandardMaterial({
       color: 0xb8c4d6,
       roughness: 0.6,
@@ -97,7 +112,40 @@ export class ParamView {
     /** 'surface' (the input with its layout), 'checker', 'distortion' or 'quads' (the quad
      * mesh shaded, instead of the input). */
     this.mode = 'surface';
-    this.showQuads = true;
+    /** Quad edges over the checkerboard, heat map or input (always over the quad mesh). */
+    this.showQuads = false;
+  }
+
+  /**
+   * Compiles the shaders of everything this view draws, once, before there is anything to
+   * draw, by drawing an empty stand-in of each: a program is compiled and linked on first
+   * use, which blocks the page's thread (most of a second in a software renderer), and that
+   * should happen when a layout is placed, not at the moment a solve's result arrives.
+   */
+  warmUp() {
+    if (this.warm) return;
+    this.warm = true;
+    const one = (attrs) => {
+      const g = new THREE.BufferGeometry();
+      for (const [name, size] of attrs) g.setAttribute(name, new THREE.BufferAttribute(new Float32Array(3 * size), size));
+      return g;
+    };
+    const quad = one([['position', 3], ['normal', 3]]);
+    quad.setIndex(new THREE.BufferAttribute(new Uint32Array([0, 1, 2]), 1));
+    const stand = [
+      new THREE.Mesh(one([['position', 3], ['normal', 3], ['uv', 2], ['distortion', 1], ['face', 1]]), this.material),
+      new THREE.Mesh(quad, this.quadSurfaceMaterial),
+      new THREE.LineSegments(one([['position', 3]]), this.quadMaterial),
+    ];
+    for (const o of stand) o.frustumCulled = false;
+    this.group.add(...stand);
+    try {
+      this.viewer.renderer.render(this.viewer.scene, this.viewer.camera);
+    } finally {
+      this.group.remove(...stand);
+      for (const o of stand) o.geometry.dispose();
+      this.viewer.requestRender();
+    }
   }
 
   /**
@@ -112,7 +160,7 @@ export class ParamView {
     g.setAttribute('normal', new THREE.BufferAttribute(result.normal, 3));
     g.setAttribute('uv', new THREE.BufferAttribute(result.uv, 2));
     g.setAttribute('distortion', new THREE.BufferAttribute(result.cornerDistortion, 1));
-    g.setAttribute('face', new THREE.BufferAttribute(faceAttribute(result.face), 1));
+    g.setAttribute('face', new THREE.BufferAttribute(result.cornerFace, 1));
     // The input mesh's bounds hold: the refined mesh is the same surface.
     g.boundingSphere = this.viewer.mesh?.geometry.boundingSphere?.clone() ?? null;
     if (!g.boundingSphere) g.computeBoundingSphere();
@@ -173,6 +221,7 @@ export class ParamView {
   /** Checker cell size (the target quad edge length). */
   setCell(length) {
     this.material.uniforms.cell.value = length;
+    this.quadMaterial.uniforms.bias.value = 0.3 * length;
     this.viewer.requestRender();
   }
 
@@ -203,11 +252,4 @@ export class ParamView {
     this.clearSurface();
     this.setQuads(null);
   }
-}
-
-/** Per corner the face of its triangle, as floats (WebGL 1-style attributes). */
-function faceAttribute(face) {
-  const out = new Float32Array(3 * face.length);
-  for (let t = 0; t < face.length; t++) out[3 * t] = out[3 * t + 1] = out[3 * t + 2] = face[t];
-  return out;
 }

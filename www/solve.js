@@ -174,6 +174,7 @@ export class Solver {
       $('solve-card').hidden = true;
     } else if (event.type === 'layout') {
       this.layoutReady = true;
+      this.view.warmUp();
       $('solve-card').hidden = false;
       $('opt-edge').placeholder = short(this.defaultEdge());
       const wasRunning = Boolean(this.current);

@@ -41,7 +41,7 @@ const handlers = {
     return {
       result: { distortion, history: session.paramHistory(), charts: session.paramCharts(), seconds: session.seconds(), ...view },
       transfer: [view.position.buffer, view.normal.buffer, view.uv.buffer, view.face.buffer,
-        view.triangleDistortion.buffer, view.cornerDistortion.buffer],
+        view.triangleDistortion.buffer, view.cornerDistortion.buffer, view.cornerFace.buffer],
     };
   },
   [MSG.PARAM_KEEP]({ name }) {
@@ -129,6 +129,7 @@ function paramView(s) {
   const position = new Float32Array(9 * n);
   const normal = new Float32Array(9 * n);
   const cornerDistortion = new Float32Array(3 * n);
+  const cornerFace = new Float32Array(3 * n);
   for (let t = 0; t < n; t++) {
     const a = 3 * tri[3 * t], b = 3 * tri[3 * t + 1], c = 3 * tri[3 * t + 2];
     const o = 9 * t;
@@ -148,8 +149,9 @@ function paramView(s) {
       normal[o + 3 * k + 2] = nz;
     }
     cornerDistortion[3 * t] = cornerDistortion[3 * t + 1] = cornerDistortion[3 * t + 2] = distortion[t];
+    cornerFace[3 * t] = cornerFace[3 * t + 1] = cornerFace[3 * t + 2] = face[t];
   }
-  return { triangles: n, position, normal, uv, face, triangleDistortion: distortion, cornerDistortion };
+  return { triangles: n, position, normal, uv, face, triangleDistortion: distortion, cornerDistortion, cornerFace };
 }
 
 // Set before anything is awaited: messages that arrive while the wasm is still being
