@@ -631,17 +631,19 @@ export class Editor {
       const d = s && Math.hypot(s.x - x, s.y - y);
       if (d <= PICK.node) candidates.push({ kind: 'node', index: n, d: d - 1, point: p });
     });
+    const screen = this.projectedCurves();
     this.edgePoints.forEach((pts, i) => {
       if (!pts) return;
+      const q = screen[i];
       let best = null;
-      let prev = this.screenOf(pts.slice(0, 3));
-      for (let j = 3; j < pts.length; j += 3) {
-        const s = this.screenOf(pts.slice(j, j + 3));
-        if (prev && s) {
-          const { d, s: t } = segmentDistance(x, y, prev.x, prev.y, s.x, s.y);
-          if (d <= PICK.edge && (!best || d < best.d)) best = { d, segment: j / 3 - 1, t };
-        }
-        prev = s;
+      for (let j = 1; j < q.length / 2; j++) {
+        const ax = q[2 * j - 2], ay = q[2 * j - 1], bx = q[2 * j], by = q[2 * j + 1];
+        if (Number.isNaN(ax) || Number.isNaN(bx)) continue;
+        // Cheap rejection before the exact distance.
+        if ((ax < x - PICK.edge && bx < x - PICK.edge) || (ax > x + PICK.edge && bx > x + PICK.edge)
+          || (ay < y - PICK.edge && by < y - PICK.edge) || (ay > y + PICK.edge && by > y + PICK.edge)) continue;
+        const { d, s: t } = segmentDistance(x, y, ax, ay, bx, by);
+        if (d <= PICK.edge && (!best || d < best.d)) best = { d, segment: j - 1, t };
       }
       if (best) {
         const a = pts.slice(3 * best.segment, 3 * best.segment + 3);
@@ -654,6 +656,37 @@ export class Editor {
     for (const c of candidates) if (this.visible(c.point)) return c;
     const hit = this.surfaceAt(x, y);
     return hit ? { kind: 'surface', ...hit } : null;
+  }
+
+  /**
+   * The drawn curves in page pixels (x, y per point; NaN behind the camera), kept until the
+   * camera, the canvas or the curves change: pointer moves then cost no projections.
+   */
+  projectedCurves() {
+    const cam = this.viewer.camera;
+    const rect = this.canvas.getBoundingClientRect();
+    const key = `${cam.matrixWorld.elements.join()}|${cam.projectionMatrix.elements.join()}|${rect.left},${rect.top},${rect.width},${rect.height}`;
+    if (this.projection?.key === key && this.projection.curves === this.edgePoints) return this.projection.screen;
+    const m = new THREE.Matrix4().multiplyMatrices(cam.projectionMatrix, cam.matrixWorldInverse).elements;
+    const screen = this.edgePoints.map((pts) => {
+      if (!pts) return null;
+      const q = new Float32Array((pts.length / 3) * 2);
+      for (let j = 0; j < pts.length / 3; j++) {
+        const px = pts[3 * j], py = pts[3 * j + 1], pz = pts[3 * j + 2];
+        const w = m[3] * px + m[7] * py + m[11] * pz + m[15];
+        if (w <= 0) {
+          q[2 * j] = q[2 * j + 1] = NaN;
+          continue;
+        }
+        const nx = (m[0] * px + m[4] * py + m[8] * pz + m[12]) / w;
+        const ny = (m[1] * px + m[5] * py + m[9] * pz + m[13]) / w;
+        q[2 * j] = rect.left + ((nx + 1) / 2) * rect.width;
+        q[2 * j + 1] = rect.top + ((1 - ny) / 2) * rect.height;
+      }
+      return q;
+    });
+    this.projection = { key, curves: this.edgePoints, screen };
+    return screen;
   }
 
   // ---- pointer and keys --------------------------------------------------------------------
@@ -937,6 +970,7 @@ export class Editor {
     if (event.target.closest?.('input, textarea, select, [contenteditable]') || !this.mesh) return;
     const key = event.key.toLowerCase();
     if (event.ctrlKey || event.metaKey) {
+      if (this.drag) return;
       if (key === 'z' && !event.shiftKey) this.undo();
       else if ((key === 'z' && event.shiftKey) || key === 'y') this.redo();
       else if (key === 's') this.save();
