@@ -18,6 +18,7 @@ import * as autosave from './autosave.js';
 import { History } from './history.js';
 import * as L from './layout-doc.js';
 import { faceColors } from './layout-view.js';
+import { meshGraph, pathThrough } from './mesh-paths.js';
 import { TriangleBVH, dist2, nearestVertex, segmentDistance } from './picking.js';
 
 /** The tools; `key` is the keyboard shortcut. */
@@ -77,6 +78,8 @@ export class Editor {
     this.problem = L.problemOf(null);
     /** Curves already traced, by edge key (its ends' vertices and waypoints). */
     this.curveCache = new Map();
+    /** Paths along mesh edges for edges the core has not traced, by edge key. */
+    this.pathCache = new Map();
     this.pointCache = new Map();
     this.nodeVertex = [];
     this.edgePoints = [];
@@ -130,6 +133,8 @@ export class Editor {
     this.bvh = null;
     this.boundary = null;
     this.curveCache.clear();
+    this.pathCache.clear();
+    this.graph = null;
     this.pointCache.clear();
     this.seq++;
     this.checking = false;
@@ -352,6 +357,24 @@ export class Editor {
     return v >= 0 ? this.position(v) : null;
   }
 
+  /**
+   * Where an edge the core has not traced yet runs: the shortest path along mesh edges
+   * through its stops (cached), or null if a stop is unusable.
+   */
+  provisionalPath(e) {
+    const key = this.edgeKey(e);
+    if (this.pathCache.has(key)) return this.pathCache.get(key);
+    const [a, b] = e.nodes ?? [];
+    const stops = [this.nodeVertex[a], ...(e.via ?? []).map((w) => this.vertexOf(w)), this.nodeVertex[b]];
+    let path = null;
+    if (stops.every((v) => v >= 0)) {
+      this.graph ??= meshGraph(this.mesh.positions, this.mesh.triangles);
+      path = pathThrough(this.graph, stops);
+    }
+    this.pathCache.set(key, path);
+    return path;
+  }
+
   /** Straight segments through an edge's stops (drawn until the core traces it), or null. */
   straight(e) {
     const [a, b] = e.nodes ?? [];
@@ -363,8 +386,8 @@ export class Editor {
 
   // ---- drawing -----------------------------------------------------------------------------
 
-  material(kind, { dashed = false, width } = {}) {
-    const key = `${kind}:${dashed}:${width}`;
+  material(kind, { dashed = false, width, through = dashed } = {}) {
+    const key = `${kind}:${dashed}:${width}:${through}`;
     let m = this.materials.get(key);
     if (!m) {
       const widths = { free: 2.5, aligned: 5, boundary: 2.5, error: 6, hover: 6, rubber: 2 };
@@ -378,7 +401,8 @@ export class Editor {
         gapSize: this.radius * 0.018,
         transparent: dashed,
         opacity: dashed ? 0.9 : 1,
-        depthTest: !dashed,
+        // Straight stand-ins cut through the surface: drawn over it.
+        depthTest: !through,
       });
       this.materials.set(key, m);
     }
@@ -420,7 +444,12 @@ export class Editor {
     (doc.edges ?? []).forEach((e, i) => {
       let points = traced.get(i) ?? this.curveCache.get(this.edgeKey(e));
       const provisional = !points;
-      if (!points) points = this.straight(e);
+      let through = false;
+      if (!points) points = this.provisionalPath(e);
+      if (!points) {
+        points = this.straight(e);
+        through = true;
+      }
       if (!points) return;
       this.edgePoints[i] = points;
       let kind = e.align ? 'aligned' : 'free';
@@ -430,7 +459,7 @@ export class Editor {
       const width = hovered ? (kind === 'aligned' || kind === 'error' ? 8 : 5) : undefined;
       const g = new LineGeometry();
       g.setPositions(points);
-      const line = new Line2(g, this.material(kind, { dashed: provisional, width }));
+      const line = new Line2(g, this.material(kind, { dashed: provisional, width, through }));
       if (provisional) line.computeLineDistances();
       line.renderOrder = provisional ? 3 : 2;
       line.userData.edge = i;

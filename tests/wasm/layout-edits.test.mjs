@@ -8,6 +8,7 @@ import { createRequire } from 'node:module';
 import { test } from 'node:test';
 import * as L from '../../www/layout-doc.js';
 import { History } from '../../www/history.js';
+import { meshGraph, pathThrough, shortestPath } from '../../www/mesh-paths.js';
 import { TriangleBVH, nearestVertex } from '../../www/picking.js';
 
 const require = createRequire(import.meta.url);
@@ -164,4 +165,29 @@ test('the BVH hits what every triangle tested one by one hits', () => {
   }
   assert.equal(hits, 200);
   assert.equal(nearestVertex(P, [P[30], P[31], P[32]]), 10);
+});
+
+test('paths along mesh edges (drawn for edges not traced yet) are connected and short', () => {
+  const s = new Session(bytes, 'mushroom.obj');
+  const P = s.positions();
+  const T = s.triangles();
+  const g = meshGraph(P, T);
+  const edges = new Set();
+  for (let f = 0; f < T.length; f += 3) {
+    for (let k = 0; k < 3; k++) edges.add(`${T[f + k]},${T[f + ((k + 1) % 3)]}`);
+  }
+  const len = (a, b) => Math.hypot(P[3 * a] - P[3 * b], P[3 * a + 1] - P[3 * b + 1], P[3 * a + 2] - P[3 * b + 2]);
+  const path = shortestPath(g, CORNERS[0], TOP);
+  assert.equal(path[0], CORNERS[0]);
+  assert.equal(path.at(-1), TOP);
+  let total = 0;
+  for (let i = 1; i < path.length; i++) {
+    assert.ok(edges.has(`${path[i - 1]},${path[i]}`) || edges.has(`${path[i]},${path[i - 1]}`), `step ${i} is not a mesh edge`);
+    total += len(path[i - 1], path[i]);
+  }
+  assert.ok(total >= len(CORNERS[0], TOP));
+  // Through a waypoint: the two halves, joined once.
+  const through = pathThrough(g, [CORNERS[0], TOP, CORNERS[2]]);
+  const a = shortestPath(g, CORNERS[0], TOP).length, b = shortestPath(g, TOP, CORNERS[2]).length;
+  assert.equal(through.length / 3, a + b - 1);
 });
