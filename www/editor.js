@@ -4,10 +4,13 @@
 // waypoints bend edges, a node dropped on an edge splits it at a T-vertex, edges are tagged
 // for alignment, faces get chart types. An incomplete layout is normal while drawing: the
 // core's error is shown in words and on the mesh (the nodes and edges it names in red), and
-// the drawing stays visible (curves of unchanged edges, dashed straight lines for new ones).
+// the drawing stays visible (curves of unchanged edges; new ones dashed, along the shortest
+// path over mesh edges, mesh-paths.js).
 //
 // Undo/redo over whole documents (history.js), autosave per mesh (autosave.js), picking
 // through a BVH (picking.js): pointer moves cost the layout's size, not the mesh's.
+// After every check the window gets a `quadlay-layout` event, detail { summary, error }
+// (summary null while the layout is invalid), for other parts of the page.
 import * as THREE from 'three';
 import { Line2 } from 'three/addons/lines/Line2.js';
 import { LineGeometry } from 'three/addons/lines/LineGeometry.js';
@@ -125,6 +128,7 @@ export class Editor {
       this.mesh = { positions: mesh.positions, triangles: mesh.triangles, summary: mesh.summary, name };
       this.bvh = null;
       this.boundary = null;
+      this.graph = null;
       this.apply(this.doc, { record: false, save: false });
       return;
     }
@@ -270,6 +274,7 @@ export class Editor {
     this.updatePointer();
     this.updateUi();
     this.onChange(this.view?.summary ?? null, this.error);
+    window.dispatchEvent(new CustomEvent('quadlay-layout', { detail: { summary: this.view?.summary ?? null, error: this.error } }));
     this.resolveWaiters();
   }
 
@@ -299,6 +304,8 @@ export class Editor {
 
   autosave() {
     if (!this.storageKey) return;
+    // Undoing back to nothing must not erase the layout that is still offered for restoring.
+    if (this.offer && !this.doc.nodes?.length) return;
     autosave.writeSaved(this.storageKey, this.doc);
     // Once the user works on, an unanswered offer still holds the older layout in memory.
   }
@@ -940,7 +947,6 @@ export class Editor {
 
   /** [doc, new node] with edge hit.index split at the mesh vertex nearest the picked point. */
   splitDoc(hit) {
-    const e = this.doc.edges[hit.index];
     const through = this.surfaceAt(...Object.values(this.screenOf(hit.point)));
     let vertex = through ? this.ensureBvh().nearestCorner(through.triangle, hit.point) : nearestVertex(this.mesh.positions, hit.point);
     if (through && dist2(this.mesh.positions, vertex, hit.point) > (this.radius * 0.05) ** 2) {
@@ -951,7 +957,6 @@ export class Editor {
       this.say(`nodes[${at}] is on that vertex already`);
       return null;
     }
-    void e;
     return L.splitEdge(this.doc, hit.index, vertex, this.viaInsertIndex(hit.index, hit.segment));
   }
 
