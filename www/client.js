@@ -30,11 +30,11 @@ export class CoreClient {
    * @param {string} name the file's name; its extension picks the format
    * @returns {Promise<{summary: object, positions: Float32Array, triangles: Uint32Array}>}
    */
-  load(bytes, name, { quiet = false } = {}) {
+  load(bytes, name, { quiet = false, replaying = false } = {}) {
     // A copy stays here, so a restarted worker gets the mesh again (see restart()).
-    const copy = bytes.slice(0);
+    const copy = replaying ? null : bytes.slice(0);
     return this.request(MSG.LOAD, { bytes, name }, [bytes]).then((result) => {
-      this.replay = { mesh: { bytes: copy, name }, layout: null };
+      if (!replaying) this.replay = { mesh: { bytes: copy, name }, layout: null };
       if (!quiet) this.emit({ type: 'mesh', name });
       return result;
     });
@@ -45,11 +45,11 @@ export class CoreClient {
    * @param {string} text the layout file (JSON, format v1)
    * @returns {Promise<object>} the LayoutView of protocol.js
    */
-  setLayout(text, { quiet = false } = {}) {
-    if (this.replay) this.replay.layout = null; // the worker drops its layout first
+  setLayout(text, { quiet = false, replaying = false } = {}) {
+    if (this.replay && !replaying) this.replay.layout = null; // the worker drops its layout first
     return this.request(MSG.SET_LAYOUT, { text }).then(
       (result) => {
-        if (this.replay) this.replay.layout = text;
+        if (this.replay && !replaying) this.replay.layout = text;
         if (!quiet) this.emit({ type: 'layout', text, view: result });
         return result;
       },
@@ -135,10 +135,11 @@ export class CoreClient {
     this.terminate(reason);
     const replay = this.replay;
     if (!replay) return Promise.resolve();
-    this.replay = null;
+    // `replay` stays as it is, so a restart during this one sends the same again.
     const mesh = replay.mesh.bytes.slice(0);
-    const loaded = this.load(mesh, replay.mesh.name, { quiet: true });
-    const placed = replay.layout == null ? loaded : loaded.then(() => this.setLayout(replay.layout, { quiet: true }));
+    const options = { quiet: true, replaying: true };
+    const loaded = this.load(mesh, replay.mesh.name, options);
+    const placed = replay.layout == null ? loaded : loaded.then(() => this.setLayout(replay.layout, options));
     return placed.then(() => {}, () => {});
   }
 

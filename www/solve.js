@@ -184,7 +184,7 @@ export class Solver {
       // A changed layout solves again on the mesh the worker has (nothing reloaded).
       if (this.autoSolve || wasRunning) {
         clearTimeout(this.autoTimer);
-        this.autoTimer = setTimeout(() => this.run().catch(() => {}), 300);
+        this.autoTimer = setTimeout(() => this.run().catch(() => {}), 800);
       }
     } else if (event.type === 'layout-error') {
       this.layoutReady = false;

@@ -398,6 +398,16 @@ test('a shareable link with run=1 solves and remeshes without a click', async (t
   assert.equal(await page.locator('#opt-chart').inputValue(), 'rect');
   await page.locator('#solve-card').scrollIntoViewIfNeeded();
   await page.screenshot({ path: join(outDir, 'solve-link.png') });
+
+  // Another layout on the same mesh solves again by itself, the mesh not reloaded.
+  const fetched = [];
+  page.on('request', (req) => fetched.push(new URL(req.url()).pathname));
+  await page.evaluate(() => window.quadlay.loadLayout('layouts/mushroom-t.layout.json'));
+  await waitFor(page, (q) => q.result?.layout.faces === 7 && q.solve.state === 'done', 60_000);
+  const again = await page.evaluate(() => window.quadlay.result);
+  assertReport(again, 3);
+  assert.equal(again.layout.t_vertices, 2);
+  assert.ok(!fetched.some((p) => p.endsWith('.obj')), fetched.join());
   await page.close();
 });
 

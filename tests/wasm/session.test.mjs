@@ -135,13 +135,18 @@ test('a run with chosen chart types, its refined mesh, uv, distortion, charts an
     assert.equal(s.useParam('rect', 'unit'), true);
     assert.equal(s.useParam('nothing'), false);
 
-    const obj = new TextDecoder().decode(s.paramObj());
+    // The refined mesh with its uv; the input mesh with its uv (as --param-out).
+    const obj = new TextDecoder().decode(s.cutObj());
     const lines = obj.split('\n');
     const nv = lines.filter((l) => l.startsWith('v ')).length;
     const nvt = lines.filter((l) => l.startsWith('vt ')).length;
     const faces = lines.filter((l) => l.startsWith('f '));
     assert.equal(nvt, 3 * faces.length);
     assert.equal(nv, s.cutPositions().length / 3);
+    assert.equal(faces.length, s.cutTriangles().length / 3);
+    const input = new TextDecoder().decode(s.paramObj()).split('\n');
+    assert.equal(input.filter((l) => l.startsWith('v ')).length, 2337);
+    assert.equal(input.filter((l) => l.startsWith('f ')).length, 4608);
     assert.match(faces[0], /^f \d+\/1 \d+\/2 \d+\/3$/);
     const sec = s.seconds();
     assert.ok(sec.load >= 0 && sec.layout >= 0);
@@ -170,6 +175,68 @@ test('a layout whose patches name a chart keeps it when the run asks for another
     const asFiled = s.paramCharts().map((c) => c.kind);
     assert.equal(asFiled.filter((k) => k === 'unit').length, 1, asFiled.join());
     assert.equal(asFiled.filter((k) => k === 'quad').length, kinds.length - 1, asFiled.join());
+  } finally {
+    s.free();
+  }
+});
+
+test('remesh: the quad mesh of the active run, its report (cli.md) and files', () => {
+  const s = new Session(read('mushroom.obj'), 'mushroom.obj');
+  try {
+    s.setLayout(readFileSync(new URL('../../www/layouts/mushroom-grid.layout.json', import.meta.url), 'utf8'));
+    assert.throws(() => s.remesh({}), /start the parameterization first/);
+    s.startParam({ chart: 'quad' });
+    for (let k = 0; k < 3; k++) s.stepParam();
+    s.finishParam();
+    assert.throws(() => s.quadPositions(), /remesh first/);
+    const report = s.remesh({ edge_length: 0.02 });
+    for (const [group, fields] of Object.entries({
+      input: ['vertices', 'triangles'],
+      layout: ['nodes', 'edges', 'faces', 't_vertices'],
+      parameterization: ['distortion_mean', 'distortion_max', 'flipped_triangles'],
+      quads: ['vertices', 'faces', 'irregular_vertices'],
+      seconds: ['load', 'layout', 'parameterize', 'mesh', 'total'],
+    })) {
+      for (const f of fields) assert.equal(typeof report[group][f], 'number', `${group}.${f}`);
+    }
+    assert.deepEqual(report.iterations.map((i) => i.iteration), [0, 1, 2, 3]);
+    assert.deepEqual([report.input.vertices, report.input.triangles, report.layout.faces], [2337, 4608, 4]);
+    assert.ok(report.seconds.parameterize > 0 && report.seconds.total >= report.seconds.parameterize);
+    const pos = s.quadPositions();
+    const quads = s.quadIndices();
+    assert.ok(pos instanceof Float32Array && pos.length === 3 * report.quads.vertices);
+    assert.ok(quads instanceof Uint32Array && quads.length === 4 * report.quads.faces);
+    assert.ok(quads.every((i) => i < report.quads.vertices));
+    assert.deepEqual(s.quadReport(), report);
+    // A failed extraction says why and leaves no quad mesh.
+    assert.throws(() => s.remesh({ edge_length: -1 }), /edge length/);
+    assert.throws(() => s.quadPositions(), /remesh first/);
+    // A coarser edge length gives fewer quads.
+    const coarse = s.remesh({ edge_length: 0.05 });
+    assert.ok(coarse.quads.faces < report.quads.faces);
+
+    const text = (b) => new TextDecoder().decode(b);
+    const obj = text(s.quadFile('obj')).split('\n');
+    assert.equal(obj.filter((l) => l.startsWith('v ')).length, coarse.quads.vertices);
+    const f = obj.filter((l) => l.startsWith('f '));
+    assert.equal(f.length, coarse.quads.faces);
+    assert.ok(f.every((l) => /^f \d+ \d+ \d+ \d+$/.test(l)));
+    assert.match(text(s.quadFile('ply').subarray(0, 200)), new RegExp(`element face ${coarse.quads.faces}`));
+    assert.equal(text(s.quadFile('glb').subarray(0, 4)), 'glTF');
+    assert.throws(() => s.quadFile('stl'), /unknown quad mesh format 'stl'/);
+    const cut = text(s.cutObj()).split('\n');
+    assert.equal(cut.filter((l) => l.startsWith('vt ')).length, 3 * cut.filter((l) => l.startsWith('f ')).length);
+    const param = text(s.paramObj()).split('\n');
+    assert.equal(param.filter((l) => l.startsWith('f ')).length, 4608);
+    assert.equal(param.filter((l) => l.startsWith('vt ')).length, 3 * 4608);
+
+    // A new run drops the quad mesh; each kept run keeps its own.
+    s.keepParam('quad');
+    s.startParam({ chart: 'rect' });
+    s.finishParam();
+    assert.throws(() => s.quadPositions(), /remesh first/);
+    s.useParam('quad', 'rect');
+    assert.equal(s.quadIndices().length, 4 * coarse.quads.faces);
   } finally {
     s.free();
   }
