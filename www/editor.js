@@ -28,7 +28,7 @@ import { TriangleBVH, dist2, nearestVertex, segmentDistance } from './picking.js
 export const MODES = {
   view: { key: 'v', label: 'View', hint: 'Drag to orbit, right-drag to pan, scroll to zoom. Pick a tool to edit the layout.' },
   node: { key: 'n', label: 'Node', hint: 'Click the surface to add a node (it snaps to the nearest vertex). Click an edge to split it at a new node (T-vertex).' },
-  edge: { key: 'e', label: 'Edge', hint: 'Click a node, then another to connect them. Clicking the surface adds a node and connects it. Esc ends the chain.' },
+  edge: { key: 'e', label: 'Edge', hint: 'Click a node, then another to connect them. Clicking the surface (or an edge: a T-vertex) adds a node and connects it. Esc ends the chain.' },
   bend: { key: 'b', label: 'Bend', hint: 'Drag an edge to bend it through a waypoint; drag a waypoint (cyan) to move it.' },
   align: { key: 'a', label: 'Align', hint: 'Click an edge to tag it for alignment (thick orange) or untag it (thin blue).' },
   chart: { key: 'c', label: 'Chart', hint: 'Click a face to change its chart type: quad → rect → unit.' },

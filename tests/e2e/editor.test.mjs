@@ -2,7 +2,8 @@
 // pixels come from projecting mesh vertices with the page's camera, `quadlay.editor.screenOf`):
 // nodes on the mushroom's boundary and top, edges between them, live validation (the core's
 // error in words and in red on the mesh), an edge tagged, a T-vertex, a chart type, a bent
-// edge, undo/redo, the saved file, the autosave offered again after a reload.
+// edge, undo/redo, the saved file, the autosave offered again after a reload, a worker
+// crash survived, a node deleted with its edges.
 // Screenshots of each state go to test-output/e2e/editor-*.png.
 import assert from 'node:assert/strict';
 import { mkdirSync, readFileSync } from 'node:fs';
