@@ -737,6 +737,8 @@ export class Editor {
       if (this.drag) return;
       this.setHover(null);
       this.drawTransient(null);
+      this.hoverHint = null;
+      this.updateUi();
     });
     this.viewer.controls.addEventListener('change', () => this.updateLabels());
     window.addEventListener('keydown', (e) => this.onKey(e));
@@ -788,6 +790,10 @@ export class Editor {
       if (!p.onCanvas || this.mode === 'view' || (buttons & 1 && this.down)) {
         this.setHover(null);
         this.drawTransient(null);
+        if (this.hoverHint) {
+          this.hoverHint = null;
+          this.updateUi();
+        }
         return;
       }
       const hit = this.pick(p.x, p.y);
@@ -796,7 +802,11 @@ export class Editor {
       const target = hit?.kind === 'node' ? hit.point : ghost;
       this.drawTransient(target, { ghost: Boolean(ghost) });
       this.canvas.style.cursor = hit && hit.kind !== 'surface' ? 'pointer' : this.mode === 'view' ? '' : 'crosshair';
-      if (this.mode === 'chart') this.describeFace(hit);
+      const hint = this.describe(hit);
+      if (hint !== this.hoverHint) {
+        this.hoverHint = hint;
+        this.updateUi();
+      }
     }
   }
 
@@ -986,11 +996,49 @@ export class Editor {
     return this.apply(L.setChart(this.doc, corners, next), { label: `chart ${next}` });
   }
 
-  describeFace(hit) {
-    const f = this.faceAt(hit);
-    if (f < 0) return;
-    const face = this.view.summary.face_list[f];
-    this.hintText.textContent = `Face ${f} (corners ${face.corners.join(', ')}): ${face.chart} chart. Click for ${L.CHARTS[(L.CHARTS.indexOf(face.chart) + 1) % 3]}.`;
+  /** What a click on `hit` would do now, for the hint line; null: the tool's own hint. */
+  describe(hit) {
+    if (!hit) return null;
+    const edges = (n) => (this.doc.edges ?? []).filter((e) => e.nodes?.includes(n)).length;
+    const what = hit.kind === 'edge' ? `edges[${hit.index}]` : hit.kind === 'node' ? `nodes[${hit.index}]` : null;
+    switch (this.mode) {
+      case 'node':
+        if (hit.kind === 'edge') return `Click: split ${what} at a new node (T-vertex).`;
+        if (hit.kind === 'node') return `${what} is here.`;
+        return null;
+      case 'edge':
+        if (hit.kind === 'node') {
+          if (this.pending == null) return `Click: start an edge at ${what}.`;
+          if (this.pending === hit.index) return `Click: end the chain at ${what}.`;
+          return `Click: connect nodes[${this.pending}] to ${what}.`;
+        }
+        if (hit.kind === 'edge') return `Click: a new node on ${what} (T-vertex)${this.pending != null ? `, connected to nodes[${this.pending}]` : ''}.`;
+        return null;
+      case 'bend':
+        if (hit.kind === 'via') return `Drag: move waypoint ${hit.via} of edges[${hit.index}].`;
+        if (hit.kind === 'edge') return `Drag: bend ${what} through a new waypoint.`;
+        return null;
+      case 'align':
+        if (hit.kind === 'edge') return `Click: ${this.doc.edges[hit.index].align ? 'untag' : 'tag'} ${what} ${this.doc.edges[hit.index].align ? '(thin blue)' : 'for alignment (thick orange)'}.`;
+        return null;
+      case 'chart': {
+        const f = this.faceAt(hit);
+        if (f < 0) return null;
+        const face = this.view.summary.face_list[f];
+        const next = L.CHARTS[(L.CHARTS.indexOf(face.chart) + 1) % 3];
+        return `Face ${f} (corners ${face.corners.join(', ')}): ${face.chart} chart. Click: ${next}.`;
+      }
+      case 'delete':
+        if (hit.kind === 'via') return `Click: delete waypoint ${hit.via} of edges[${hit.index}].`;
+        if (hit.kind === 'node') {
+          const k = edges(hit.index);
+          return `Click: delete ${what}${k ? ` and its ${k} edge${k === 1 ? '' : 's'}` : ''}.`;
+        }
+        if (hit.kind === 'edge') return `Click: delete ${what}.`;
+        return null;
+      default:
+        return null;
+    }
   }
 
   setHover(hit) {
@@ -1040,6 +1088,7 @@ export class Editor {
   setMode(mode) {
     if (!MODES[mode]) throw new Error(`unknown mode '${mode}' (${Object.keys(MODES).join(', ')})`);
     this.mode = mode;
+    this.hoverHint = null;
     if (mode !== 'edge') this.pending = null;
     this.hover = null;
     this.canvas.style.cursor = mode === 'view' ? '' : 'crosshair';
@@ -1136,7 +1185,7 @@ export class Editor {
 
     let hint = MODES[this.mode].hint;
     if (this.mode === 'edge' && this.pending != null) hint = `From nodes[${this.pending}]: click a node to connect it, or the surface for a new node. Esc ends the chain.`;
-    this.hintText.textContent = this.notice ?? hint;
+    this.hintText.textContent = this.notice ?? this.hoverHint ?? hint;
 
     const check = this.checkText;
     if (!this.mesh) {

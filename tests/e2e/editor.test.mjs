@@ -259,6 +259,9 @@ test('tagging an edge for alignment, undo and redo', async () => {
 
 test('a node dropped on an edge splits it at a T-vertex', async () => {
   await key('n');
+  const over = await pixelOnEdge(1);
+  await page.mouse.move(over.x, over.y);
+  await page.waitForFunction(() => /split edges\[1\]/.test(document.getElementById('layout-hint').textContent));
   await clickEdge(1);
   const d = await doc();
   assert.equal(d.nodes.length, 6);
