@@ -14,15 +14,16 @@ const vertexShader = /* glsl */ `
 attribute float distortion;
 attribute float face;
 varying vec2 vUv;
-varying vec3 vNormal;
+varying vec3 vView;
 varying float vDistortion;
 varying float vFace;
 void main() {
   vUv = uv;
   vDistortion = distortion;
   vFace = face;
-  vNormal = normalize(normalMatrix * normal);
-  gl_Position = projectionMatrix * modelViewMatrix * vec4(position, 1.0);
+  vec4 mv = modelViewMatrix * vec4(position, 1.0);
+  vView = mv.xyz;
+  gl_Position = projectionMatrix * mv;
 }`;
 
 const fragmentShader = /* glsl */ `
@@ -31,13 +32,14 @@ uniform float cell;        // checker cell size in chart units (surface units)
 uniform vec2 range;        // log10 of the heat map's ends
 uniform vec3 palette[${PALETTE.length}];
 varying vec2 vUv;
-varying vec3 vNormal;
+varying vec3 vView;
 varying float vDistortion;
 varying float vFace;
 ${glslHeat()}
 void main() {
-  vec3 n = normalize(vNormal);
-  if (!gl_FrontFacing) n = -n;
+  // The triangle's own (flat) normal, facing the eye, from the screen-space derivatives of
+  // its view position: no normal attribute to build and send.
+  vec3 n = normalize(cross(dFdx(vView), dFdy(vView)));
   // A headlight from the upper left and a soft ambient, in view space.
   float light = 0.38 + 0.62 * max(dot(n, normalize(vec3(-0.35, 0.55, 0.75))), 0.0);
   vec3 base;
@@ -133,7 +135,7 @@ export class ParamView {
     const quad = one([['position', 3], ['normal', 3]]);
     quad.setIndex(new THREE.BufferAttribute(new Uint32Array([0, 1, 2]), 1));
     const stand = [
-      new THREE.Mesh(one([['position', 3], ['normal', 3], ['uv', 2], ['distortion', 1], ['face', 1]]), this.material),
+      new THREE.Mesh(one([['position', 3], ['uv', 2], ['distortion', 1], ['face', 1]]), this.material),
       new THREE.Mesh(quad, this.quadSurfaceMaterial),
       new THREE.LineSegments(one([['position', 3]]), this.quadMaterial),
     ];
@@ -157,7 +159,6 @@ export class ParamView {
     this.clearSurface();
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(result.position, 3));
-    g.setAttribute('normal', new THREE.BufferAttribute(result.normal, 3));
     g.setAttribute('uv', new THREE.BufferAttribute(result.uv, 2));
     g.setAttribute('distortion', new THREE.BufferAttribute(result.cornerDistortion, 1));
     g.setAttribute('face', new THREE.BufferAttribute(result.cornerFace, 1));

@@ -62,7 +62,6 @@ export const MSG = Object.freeze({
    *           seconds: { load, layout } (reading the mesh, placing the layout, in the worker),
    *           triangles: number (of the refined mesh),
    *           position: Float32Array (9 per refined triangle: its corners' xyz),
-   *           normal: Float32Array (9 per triangle: its flat normal, per corner),
    *           uv: Float32Array (6 per triangle: its corners' uv in its face's chart),
    *           face: Uint32Array (per triangle: its layout face),
    *           triangleDistortion: Float32Array (per triangle: ‖JᵀJ−I‖²),

@@ -40,7 +40,7 @@ const handlers = {
     const view = paramView(session);
     return {
       result: { distortion, history: session.paramHistory(), charts: session.paramCharts(), seconds: session.seconds(), ...view },
-      transfer: [view.position.buffer, view.normal.buffer, view.uv.buffer, view.face.buffer,
+      transfer: [view.position.buffer, view.uv.buffer, view.face.buffer,
         view.triangleDistortion.buffer, view.cornerDistortion.buffer, view.cornerFace.buffer],
     };
   },
@@ -127,7 +127,6 @@ function paramView(s) {
   const distortion = s.triangleDistortion();
   const n = tri.length / 3;
   const position = new Float32Array(9 * n);
-  const normal = new Float32Array(9 * n);
   const cornerDistortion = new Float32Array(3 * n);
   const cornerFace = new Float32Array(3 * n);
   for (let t = 0; t < n; t++) {
@@ -138,20 +137,10 @@ function paramView(s) {
       position[o + 3 + k] = pos[b + k];
       position[o + 6 + k] = pos[c + k];
     }
-    const ux = pos[b] - pos[a], uy = pos[b + 1] - pos[a + 1], uz = pos[b + 2] - pos[a + 2];
-    const vx = pos[c] - pos[a], vy = pos[c + 1] - pos[a + 1], vz = pos[c + 2] - pos[a + 2];
-    let nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-    const len = Math.hypot(nx, ny, nz) || 1;
-    nx /= len; ny /= len; nz /= len;
-    for (let k = 0; k < 3; k++) {
-      normal[o + 3 * k] = nx;
-      normal[o + 3 * k + 1] = ny;
-      normal[o + 3 * k + 2] = nz;
-    }
     cornerDistortion[3 * t] = cornerDistortion[3 * t + 1] = cornerDistortion[3 * t + 2] = distortion[t];
     cornerFace[3 * t] = cornerFace[3 * t + 1] = cornerFace[3 * t + 2] = face[t];
   }
-  return { triangles: n, position, normal, uv, face, triangleDistortion: distortion, cornerDistortion, cornerFace };
+  return { triangles: n, position, uv, face, triangleDistortion: distortion, cornerDistortion, cornerFace };
 }
 
 // Set before anything is awaited: messages that arrive while the wasm is still being
