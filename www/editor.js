@@ -239,6 +239,14 @@ export class Editor {
     this.inFlight = false;
     this.checking = false;
     const { label, record, save } = this.lastEdit;
+    if (error?.fatal && !this.retried) {
+      // The worker was thrown away (a crash, a cancelled solve): the client starts a fresh
+      // one with the mesh and sends the request after it; check once more there.
+      this.retried = true;
+      this.apply(doc, { record: false, save: false });
+      return;
+    }
+    this.retried = false;
     if (view) {
       this.view = view;
       this.error = null;
@@ -258,6 +266,7 @@ export class Editor {
         this.apply(fixed, { label, record, save });
         return;
       }
+      // The worker has no mesh (it was restarted without one): load it again.
       const lost = error?.fatal || /^load a mesh/.test(message);
       if (lost && this.onCoreLost && !this.recovering) {
         this.recovering = true;
@@ -1321,6 +1330,8 @@ export class Editor {
       get layoutName() { return ed.layoutName; },
       /** Stops the worker as a crash would (for tests): the next edit finds it restarted. */
       stopCore: () => ed.client.terminate('the quadlay core was stopped (test)'),
+      /** Restarts the worker as after a crash (the client sends the mesh again; for tests). */
+      restartCore: () => ed.client.restart?.('the quadlay core was restarted (test)'),
       undo: () => ed.undo(),
       redo: () => ed.redo(),
       settled: () => ed.settled(),

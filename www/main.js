@@ -25,6 +25,7 @@
 //     faceAt(x, y)   the layout face there (index into summary.face_list), -1 if none
 //     stopCore()     stops the worker as a crash would; the next edit reloads the mesh into a
 //                    fresh one and places the layout again (for tests)
+//     restartCore()  restarts the worker as after a crash; an edit in flight is checked again
 // `?mesh=URL` loads that mesh instead of the first sample, `&layout=URL` a layout on it,
 // `&view=x,y,z` looks from that direction.
 // Shareable links: `?mesh=URL&layout=URL&run=1` loads both and, with `run=1`, solves (and

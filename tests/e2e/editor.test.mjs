@@ -375,6 +375,14 @@ test('a crashed worker loses nothing: the mesh is loaded again and the layout pl
   await key('Control+z');
   assert.deepEqual(await doc(), saved);
   assert.equal(await editor((ed) => ed.summary.aligned_edges), 1);
+
+  // A restart while an edit is being checked (a crash, a cancelled solve): checked again.
+  await editor((ed) => { ed.redo(); ed.restartCore(); });
+  await waitFor((q) => !q.editor.checking);
+  assert.equal(await editor((ed) => ed.error), null);
+  assert.equal(await editor((ed) => ed.summary.aligned_edges), 2);
+  await key('Control+z');
+  assert.equal(await editor((ed) => ed.summary.aligned_edges), 1);
 });
 
 test('deleting a node takes its edges with it', async () => {
