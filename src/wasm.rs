@@ -41,7 +41,7 @@ struct Run {
 
 /// Options of [`Session::remesh`] (all optional).
 #[derive(Deserialize, Default)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default)]
 struct RemeshOptions {
     /// Target quad edge length in the mesh's units; default 1/40 of the bounding-box
     /// diagonal.
@@ -50,7 +50,7 @@ struct RemeshOptions {
 
 /// Options of a parameterization run, as one object from JS (all optional).
 #[derive(Deserialize, Default)]
-#[serde(default, deny_unknown_fields)]
+#[serde(default)]
 struct SolveOptions {
     /// Honour the layout's alignment tags in the final solve (default true).
     align: Option<bool>,
