@@ -421,9 +421,10 @@ test('a layout that fails shows its error and nothing is solved', async () => {
   await page.waitForTimeout(500);
   assert.equal(await page.evaluate(() => window.quadlay.solve.state), 'idle');
   assert.equal(await page.evaluate(() => window.quadlay.result), null);
+  assert.equal(await page.locator('#solve-run').isDisabled(), true);
+  await page.screenshot({ path: join(outDir, 'solve-bad-layout.png') });
   const message = await page.evaluate(() => window.quadlay.run().then(() => null, (e) => e.message));
   assert.match(message, /place a valid layout/);
-  await page.screenshot({ path: join(outDir, 'solve-bad-layout.png') });
   await page.close();
 });
 
