@@ -7,7 +7,7 @@ import { colorAt } from './heatmap.js';
 const PALETTE = ['#9ad0ec', '#f6c28b', '#b5e2a0', '#e7a9c9', '#cdb4f0', '#f3e58c', '#9fe0d3', '#f2a89b',
   '#a9bff5', '#d7e89a', '#f0b9e8', '#8fd6b4'];
 /** Triangles drawn per task. */
-const SLICE = 6000;
+const SLICE = 3000;
 
 export class ChartPanel {
   constructor() {
@@ -74,7 +74,9 @@ export class ChartPanel {
   /** Draws everything again; returns a promise that settles when the last slice is drawn. */
   draw() {
     const run = ++this.drawing;
-    const ctx = this.canvas.getContext('2d');
+    // A CPU canvas: every slice is drawn when it runs (an accelerated one records them all
+    // and rasterizes them in one go at the next paint, seconds for a big mesh).
+    const ctx = this.canvas.getContext('2d', { willReadFrequently: true });
     const { width: W, height: H } = this.canvas;
     ctx.fillStyle = '#171a20';
     ctx.fillRect(0, 0, W, H);
