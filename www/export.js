@@ -3,11 +3,11 @@
 
 /** What each export is: the worker's `what`, the file name's tail, a label. */
 export const EXPORTS = {
-  'quad-obj': { suffix: '.quads.obj', label: 'Quads OBJ' },
-  'quad-ply': { suffix: '.quads.ply', label: 'Quads PLY' },
-  'quad-glb': { suffix: '.quads.glb', label: 'Quads GLB' },
-  'param-obj': { suffix: '.param.obj', label: 'Param OBJ (uv)' },
-  'cut-obj': { suffix: '.refined.param.obj', label: 'Refined OBJ (uv)' },
+  'quad-obj': { suffix: '.quads.obj', label: 'Quads OBJ', title: 'the quad mesh as OBJ' },
+  'quad-ply': { suffix: '.quads.ply', label: 'Quads PLY', title: 'the quad mesh as binary PLY' },
+  'quad-glb': { suffix: '.quads.glb', label: 'Quads GLB', title: 'the quad mesh as GLB (each quad as two triangles)' },
+  'param-obj': { suffix: '.param.obj', label: 'UV OBJ', title: 'the input mesh with one vt per triangle corner (as --param-out)' },
+  'cut-obj': { suffix: '.refined.param.obj', label: 'Refined UV OBJ', title: 'the mesh refined along the layout curves, one vt per triangle corner' },
 };
 
 /** The file name for export `what` of the mesh called `meshName`. */

@@ -114,13 +114,13 @@ export class Solver {
       if (this.shown !== null && !this.current) this.remeshShown().catch(() => {});
     });
     const exports = $('export-buttons');
-    for (const [what, { label }] of Object.entries(EXPORTS)) {
+    for (const [what, { label, title }] of Object.entries(EXPORTS)) {
       const b = document.createElement('button');
       b.type = 'button';
       b.className = 'button';
       b.dataset.export = what;
       b.textContent = label;
-      b.title = `download ${label}`;
+      b.title = `download ${title}`;
       b.addEventListener('click', () => this.exportFile(what).catch(() => {}));
       exports.append(b);
     }
