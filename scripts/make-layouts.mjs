@@ -73,6 +73,112 @@ class Shape {
   point(i) {
     return { point: this.p(i) };
   }
+  /** The vertex nearest the point `q` in mesh coordinates, among `only` (default: all). */
+  near(q, only = null) {
+    let best = Infinity, arg = 0;
+    for (const i of only ?? this.vertices()) {
+      const p = this.p(i);
+      const d = (p[0] - q[0]) ** 2 + (p[1] - q[1]) ** 2 + (p[2] - q[2]) ** 2;
+      if (d < best) [best, arg] = [d, i];
+    }
+    return arg;
+  }
+  /** Sharp feature lines: mesh edges whose dihedral angle exceeds `degrees`. Returns the
+   * feature vertices, the corners (feature vertices with other than two feature edges) and
+   * the chains (vertex paths between corners, or closed loops). */
+  features(degrees = 30) {
+    const { T, P } = this;
+    const normal = [];
+    for (let t = 0; t < T.length; t += 3) {
+      const [a, b, c] = [T[t], T[t + 1], T[t + 2]].map((i) => this.p(i));
+      const u = a.map((x, k) => b[k] - x), v = a.map((x, k) => c[k] - x);
+      const n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+      const l = Math.hypot(...n) || 1;
+      normal.push(n.map((x) => x / l));
+    }
+    void P;
+    const faces = new Map();
+    for (let t = 0; t < T.length; t += 3) {
+      for (let k = 0; k < 3; k++) {
+        const a = T[t + k], b = T[t + (k + 1) % 3];
+        const key = a < b ? `${a},${b}` : `${b},${a}`;
+        if (!faces.has(key)) faces.set(key, []);
+        faces.get(key).push(t / 3);
+      }
+    }
+    const cos = Math.cos(degrees * Math.PI / 180);
+    const adj = new Map();
+    const link = (a, b) => {
+      if (!adj.has(a)) adj.set(a, []);
+      adj.get(a).push(b);
+    };
+    for (const [key, ts] of faces) {
+      if (ts.length !== 2) continue;
+      const [n, m] = ts.map((t) => normal[t]);
+      if (n[0] * m[0] + n[1] * m[1] + n[2] * m[2] < cos) {
+        const [a, b] = key.split(',').map(Number);
+        link(a, b);
+        link(b, a);
+      }
+    }
+    const corners = [...adj.keys()].filter((v) => adj.get(v).length !== 2);
+    const seen = new Set();
+    const chains = [];
+    const walk = (a, b) => {
+      const chain = [a, b];
+      seen.add(`${a},${b}`).add(`${b},${a}`);
+      while (adj.get(chain.at(-1)).length === 2 && chain.at(-1) !== chain[0]) {
+        const [x, y] = chain.slice(-2);
+        const next = adj.get(y).find((z) => z !== x);
+        seen.add(`${y},${next}`).add(`${next},${y}`);
+        chain.push(next);
+      }
+      chains.push(chain);
+    };
+    for (const c of corners) for (const n of adj.get(c)) if (!seen.has(`${c},${n}`)) walk(c, n);
+    for (const [v, ns] of adj) for (const n of ns) if (!seen.has(`${v},${n}`)) walk(v, n);
+    return { vertices: [...adj.keys()], corners, chains, adj };
+  }
+}
+
+/** Collects a layout: nodes by mesh vertex; feature chains become aligned edges, split at every
+ * node that lies on them, with the chain's vertices as waypoints so the curves run along the
+ * feature. */
+class Builder {
+  constructor(shape) {
+    this.s = shape;
+    this.nodes = [];
+    this.index = new Map();
+    this.edges = [];
+    this.patches = [];
+  }
+  node(v) {
+    if (!this.index.has(v)) {
+      this.index.set(v, this.nodes.length);
+      this.nodes.push(v);
+    }
+    return this.index.get(v);
+  }
+  /** Adds the chain (a vertex path) as aligned edges between the nodes on it. */
+  chain(path, extra = {}) {
+    let start = 0;
+    for (let k = 1; k < path.length; k++) {
+      if (!this.index.has(path[k])) continue;
+      const via = path.slice(start + 1, k).map((v) => this.s.point(v));
+      this.edges.push({ nodes: [this.index.get(path[start]), this.index.get(path[k])], align: true,
+        ...(via.length ? { via } : {}), ...extra });
+      start = k;
+    }
+  }
+  line(a, b, { align = true, via = [] } = {}) {
+    this.edges.push({ nodes: [this.node(a), this.node(b)], ...(align ? { align: true } : {}),
+      ...(via.length ? { via: via.map((v) => this.s.point(v)) } : {}) });
+  }
+  layout() {
+    const out = { nodes: this.nodes.map((v) => this.s.point(v)), edges: this.edges };
+    if (this.patches.length) out.patches = this.patches;
+    return out;
+  }
 }
 
 const CUBE_CORNERS = [[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1], [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]];
@@ -135,7 +241,222 @@ function eight(s) {
   return { nodes, edges, patches };
 }
 
+/**
+ * fandisk.obj, a CAD part (x from -0.46 to 0.46, y (height) from -0.26 to 0.26, z from -0.5 to
+ * 0.5). Its sharp feature lines (dihedral angle > 30°) cut it into twelve smooth regions; the
+ * layout has a node at every corner of the feature lines and the feature curves as aligned
+ * edges. Regions that are not quadrilaterals are split by straight lines: at every reflex
+ * corner a line continues one of its feature lines across the region, and a concave quarter
+ * circle (a fillet) gets a node at its middle with two lines leaving it, as if it were the
+ * reflex corner it rounds off. The two fading creases on the big curved face are left out.
+ */
+const FANDISK_OPTIONS = JSON.parse(process.env.FANDISK ?? '{}');
+const FANDISK_DEFAULT = {
+  // Nodes besides the feature corners (names below).
+  base: ['T1', 'T2', 'T3', 'B0', 'M6', 'C6a', 'C6b', 'TA6', 'TB6', 'AT6', 'M7', 'AT7', 'TA7', 'TB7', 'M9', 'U9', 'L9',
+    'P31', 'P30', 'X06', 'X26', 'C7a', 'X7', 'Pm'],
+  // Straight lines across the smooth regions.
+  baseLines: [
+    // Stepped side: up from its three reflex corners to the top edge.
+    ['c1450', 'T1'], ['c903', 'T2'], ['c2145', 'T3'],
+    // Bottom: the step rectangle, the strip next to the arches, the fillet of the tab.
+    ['c1078', 'c2366'], ['c4124', 'C6b'], ['M6', 'C6b'],
+    // The wall around the tab: straight up at the tab's corners and the fillet's middle.
+    ['TA6', 'TA7'], ['TB6', 'TB7'], ['AT6', 'AT7'], ['M6', 'M7'],
+    // Top: the tab; the plane beside the arches: its fillet.
+    ['AT7', 'c5598'], ['M9', 'U9'], ['M9', 'L9'],
+    // A belt around the z axis at z = 0.03..0.06: bottom, side x = min, top, down the stepped side to the arch.
+    ['c1078', 'X06'], ['X06', 'X26'], ['X26', 'P31'], ['P31', 'P30'], ['P30', 'X7'], ['X7', 'T2'],
+    ['B0', 'X06'], ['X06', 'C6b'], ['C6a', 'X26'], ['X26', 'M6'],
+    // Top: lines from the stepped side's top edge to the fillet and the S-curve, and down from the fillet.
+    ['T1', 'C7a'], ['T3', 'M7'], ['M7', 'X7'], ['X7', 'C7a'],
+  ],
+  // The big curved face: split from the middle of the inner arch (M0) to the middle of the S-curve.
+  lines: [['M0', 'Pm']],
+  // The crescent between the S-curve and the line T1-C7a on top is a chart with a corner (Pm) in
+  // the middle of the S-curve; the lower part of the curved face has its corners at M0 and Pm.
+  patches: [['c4745', 'Pm', 'C7a', 'T1'], ['M0', 'c5526', 'c4192', 'Pm']],
+  extra: ['M0'],
+  alignLines: true,
+  // Rectangular charts: on this CAD part nearly every face is a rectangle on the surface.
+  chart: 'rect',
+};
+function fandisk(s) {
+  const f = s.features(30);
+  const b = new Builder(s);
+  const corners = f.corners.filter((v) => f.adj.get(v).length >= 3);
+  const C = (x, y, z) => s.near([x, y, z], corners);
+  /** The feature chain between corners a and b. */
+  const chain = (a, b2) => f.chains.find((c) => (c[0] === a && c.at(-1) === b2) || (c[0] === b2 && c.at(-1) === a));
+  /** The vertex of `path` nearest q, where q's null coordinates are ignored. */
+  const on = (path, q) => {
+    let best = Infinity, arg = path[0];
+    for (const v of path) {
+      const p = s.p(v);
+      const d = q.reduce((acc, x, k) => acc + (x === null ? 0 : (p[k] - x) ** 2), 0);
+      if (d < best) [best, arg] = [d, v];
+    }
+    return arg;
+  };
+  const K = {
+    c900: C(0.46, 0.144, -0.065), c903: C(0.46, 0.154, -0.007), c1078: C(0.054, -0.245, 0.064),
+    c1081: C(0.054, -0.255, 0.005), c1167: C(0.46, 0.063, 0.009), c1358: C(0.147, -0.245, 0.064),
+    c1450: C(0.46, 0.225, -0.08), c1972: C(0.46, 0.09, 0.164), c2012: C(0.147, -0.218, 0.219),
+    c2145: C(0.46, 0.181, 0.148), c2366: C(0.055, -0.218, 0.219), c3243: C(0.46, 0.209, 0.309),
+    c3444: C(0.46, 0.255, 0.308), c4037: C(0.46, 0.164, -0.499), c4121: C(0.055, -0.19, 0.379),
+    c4124: C(0.003, -0.188, 0.388), c4192: C(-0.46, 0.255, -0.04), c4745: C(0.46, 0.255, -0.5),
+    c5331: C(-0.46, -0.231, 0.146), c5367: C(-0.46, 0.255, 0.103), c5526: C(-0.46, -0.255, 0.005),
+    c5598: C(0.003, 0.255, 0.349),
+  };
+  for (const v of Object.values(K)) b.node(v);
+  const c22 = chain(K.c3444, K.c4745), c7 = chain(K.c1081, K.c5526), c26 = chain(K.c4124, K.c5331);
+  const c33 = chain(K.c5367, K.c5598), c29 = chain(K.c4192, K.c4745), c21 = chain(K.c3243, K.c4121);
+  const c23 = chain(K.c3444, K.c5598), c27 = chain(K.c4124, K.c5598), c0 = chain(K.c900, K.c1081);
+  const c28 = chain(K.c4192, K.c5526);
+  // Region x = max (the stepped side): lines up from its three reflex corners.
+  const T1 = on(c22, [null, null, s.p(K.c1450)[2]]), T2 = on(c22, [null, null, s.p(K.c903)[2]]);
+  const T3 = on(c22, [null, null, s.p(K.c2145)[2]]);
+  // Bottom (y = min): the step rectangle, the strip x in [0, 0.05], the fillet of the tab.
+  const B0 = on(c7, [s.p(K.c4124)[0], null, null]);
+  const M6 = on(c26, [-0.263, null, 0.201]), C6a = on(c7, [s.p(M6)[0], null, null]);
+  const C6b = s.near([s.p(K.c4124)[0], -0.221, s.p(M6)[2]]);
+  const TA6 = on(c26, [-0.011, null, 0.486]), TB6 = on(c26, [-0.193, null, 0.486]);
+  const AT6 = on(c26, [-0.207, null, 0.37]);
+  // Top (y = max): the tab, the fillet, lines to the stepped side and the S-curve.
+  const M7 = on(c33, [-0.263, null, 0.159]), AT7 = on(c33, [-0.207, null, 0.37]);
+  const TA7 = on(c33, [-0.011, null, 0.449]), TB7 = on(c33, [-0.193, null, 0.449]);
+  const C7a = on(c29, [s.p(M7)[0], null, null]);
+  // The plane z = 0.35 beside the arches: its fillet is the outer arch.
+  const M9 = on(c21, [0.174, 0.096, null]), U9 = on(c23, [s.p(M9)[0], null, null]);
+  const L9 = on(c27, [null, s.p(M9)[1], null]);
+  // The big curved face: the inner arch is its fillet.
+  const M0 = on(c0, [0.177, 0.028, null]), C0t = on(c29, [s.p(M0)[0], null, null]);
+  const C28 = on(c28, [null, s.p(M0)[1], null]);
+  const c30 = chain(K.c4192, K.c5367), c31 = chain(K.c5331, K.c5526);
+  // The belts around the z axis (arch, bottom, side x = min, top, stepped side) at z = 0.06.
+  const P31 = on(c31, [null, null, 0.06]), P30 = on(c30, [null, null, 0.03]);
+  const X06 = s.near([s.p(K.c4124)[0], -0.2455, 0.06]), X26 = s.near([s.p(M6)[0], -0.2455, 0.06]);
+  const P0 = on(c29, [s.p(K.c5598)[0], null, null]);
+  const X7 = s.near([s.p(M7)[0], s.p(M7)[1], 0.015]);
+  // The crescent between the S-curve and the line z = z(T1) on top: three faces around O.
+  const O7 = s.near([0.25, 0.2555, -0.25]), Tm = on(c22, [null, null, -0.29]), Lm = s.near([0.1, 0.2555, s.p(T1)[2]]);
+  const Pm = on(c29, [0.1, null, null]);
+  const N = { ...K, T1, T2, T3, B0, M6, C6a, C6b, TA6, TB6, AT6, M7, AT7, TA7, TB7, C7a, M9, U9, L9, M0, C0t, C28, P31, P30, X06, X26, P0, X7, O7, Tm, Lm, Pm };
+  const opt = { ...FANDISK_DEFAULT, ...FANDISK_OPTIONS };
+  for (const name of [...opt.base, ...opt.extra]) b.node(N[name]);
+  for (const c of f.chains) if (b.index.has(c[0]) && b.index.has(c.at(-1)) && corners.includes(c[0]) && corners.includes(c.at(-1))) b.chain(c);
+  for (const [u, v] of [...opt.baseLines, ...opt.lines]) b.line(N[u], N[v], { align: opt.alignLines });
+  for (const corners4 of opt.patches) b.patches.push({ corners: corners4.map((n) => b.index.get(N[n])) });
+  return { ...b.layout(), ...(opt.chart ? { defaults: { chart: opt.chart } } : {}) };
+}
+
+/**
+ * bunny_28k.obj (y up, head toward -x): a box around the body whose top is split in two
+ * across the head, between the ears; each top half carries one ear: a frame of four faces
+ * around the ear's base, a tube of four faces up the ear and a cap on its tip.
+ */
+function bunny(s) {
+  const b = new Builder(s);
+  const box = (q) => q.map((x, k) => s.center[k] + x * s.half[k]);
+  const unbox = (p) => p.map((x, k) => (x - s.center[k]) / s.half[k]);
+  const sub = (a, c) => a.map((x, k) => x - c[k]);
+  const dot = (a, c) => a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+  const cross = (a, c) => [a[1] * c[2] - a[2] * c[1], a[2] * c[0] - a[0] * c[2], a[0] * c[1] - a[1] * c[0]];
+  const unit = (a) => a.map((x) => x / Math.hypot(...a));
+  const opt = { ...BUNNY_DEFAULT, ...BUNNY_OPTIONS };
+  // Vertices off the ears (box fractions): below the ears' roots, or away from the hanging ear.
+  const body = [...s.vertices()].filter((i) => {
+    const [x, y, z] = unbox(s.p(i));
+    return y < 0.55 && !(x < -0.4 && z < -0.45 && y > 0.25);
+  });
+  const corner = Object.fromEntries(Object.entries(opt.corners).map(([k, q]) => [k, s.nearest(q, body)]));
+  /** Four vertices around the ear at fraction t from root to tip, in the plane across the
+   * ear's axis: toward +u, +v, -u, -v, where u is `ref` made square to the axis. */
+  const ring = (root, tip, t, ref) => {
+    const r = box(root), e = s.p(tip);
+    const a = unit(sub(e, r));
+    const c = r.map((x, k) => x + t * (e[k] - x));
+    const u = unit(sub(ref, a.map((x) => x * dot(ref, a)))), v = cross(a, u);
+    const reach = Math.hypot(...sub(e, r));
+    const best = [[-Infinity, 0], [-Infinity, 0], [-Infinity, 0], [-Infinity, 0]];
+    for (let i = 0; i < s.n; i++) {
+      const d = sub(s.p(i), c);
+      if (Math.abs(dot(d, a)) > 0.004 || Math.hypot(...d) > opt.ringReach * reach) continue;
+      [dot(d, u), dot(d, v), -dot(d, u), -dot(d, v)].forEach((x, k) => { if (x > best[k][0]) best[k] = [x, i]; });
+    }
+    return { ids: best.map(([, i]) => i), c, u, v };
+  };
+  const head = [...s.vertices()].filter((i) => unbox(s.p(i))[1] > 0.4);
+  const G = Object.fromEntries(Object.entries(opt.gap).map(([k, q]) => [k, s.nearest(q, head)]));
+  const M = Object.fromEntries(['l', 'r', 'nl', 'nr'].map((k) => [k, s.nearest(opt.split[k], body)]));
+  const via = (q) => [s.nearest(q)];
+  const C = corner;
+  // The box: bottom, sides, with the split belt (M) down the sides and across the bottom.
+  const cubeEdges = [[C.bfl, C.bfr], [C.bbl, C.bbr], [C.bfl, M.nl], [M.nl, C.bbl], [C.bfr, M.nr], [M.nr, C.bbr],
+    [C.tfl, C.tfr], [C.tbl, C.tbr], [C.tfl, M.l], [M.l, C.tbl], [C.tfr, M.r], [M.r, C.tbr],
+    [C.bfl, C.tfl], [C.bfr, C.tfr], [C.bbl, C.tbl], [C.bbr, C.tbr],
+    [M.l, M.nl], [M.r, M.nr], [M.nl, M.nr]];
+  const bend = new Map(Object.entries(opt.bend).map(([k, q]) => [k, via(q)]));
+  const name = (v) => Object.keys(C).find((k) => C[k] === v) ?? Object.keys(M).find((k) => M[k] === v);
+  for (const [u, v] of cubeEdges) b.line(u, v, { align: false, via: bend.get(`${name(u)}-${name(v)}`) ?? [] });
+  // The top: a frame of six faces around the two ears' bases, which share the side s1-s2.
+  const frame = [[C.tfl, G.bf2], [C.tfr, G.bf1], [M.r, G.s1], [M.l, G.s2], [C.tbr, G.ab1], [C.tbl, G.ab2]];
+  for (const [u, v] of frame) b.line(u, v, { align: false });
+  const rings = [[G.bf1, G.s1, G.s2, G.bf2], [G.s1, G.ab1, G.ab2, G.s2]];
+  opt.ears.forEach(({ root, tip, ref }, k) => {
+    const base = rings[k];
+    const top = ring(root, s.nearest(tip), opt.topAt, ref);
+    const { c, u, v } = top;
+    const angle = (p) => Math.atan2(dot(sub(p, c), v), dot(sub(p, c), u));
+    // Orient the base ring like the tip ring (counter-clockwise around the ear's axis).
+    const turn = base.reduce((acc, x, i) => {
+      let d = angle(s.p(base[(i + 1) % 4])) - angle(s.p(x));
+      return acc + Math.atan2(Math.sin(d), Math.cos(d));
+    }, 0);
+    const ids = turn > 0 ? top.ids : [...top.ids].reverse();
+    let best = [Infinity, 0];
+    for (let shift = 0; shift < 4; shift++) {
+      let cost = 0;
+      for (let i = 0; i < 4; i++) {
+        let d = angle(s.p(ids[(i + shift) % 4])) - angle(s.p(base[i]));
+        d = Math.atan2(Math.sin(d), Math.cos(d));
+        cost += d * d;
+      }
+      if (cost < best[0]) best = [cost, shift];
+    }
+    for (let i = 0; i < 4; i++) {
+      if (!(k === 1 && i === 3)) b.line(base[i], base[(i + 1) % 4], { align: false });
+      b.line(ids[i], ids[(i + 1) % 4], { align: false });
+      b.line(base[i], ids[(i + best[1]) % 4], { align: false });
+    }
+  });
+  return b.layout();
+}
+const BUNNY_OPTIONS = JSON.parse(process.env.BUNNY ?? '{}');
+const BUNNY_DEFAULT = {
+  corners: {
+    tbl: [0.55, 0.2, -0.3], tbr: [0.55, 0.2, 0.75], tfl: [-0.85, 0.35, -0.3], tfr: [-0.85, 0.35, 0.6],
+    bfl: [-0.45, -1, -0.35], bfr: [-0.45, -1, 0.8], bbl: [0.75, -0.95, -0.4], bbr: [0.75, -0.95, 0.85],
+  },
+
+  bend: { 'tfl-tfr': [-1, 0.3, 0.0] },
+  baseAt: 0.2,
+  ringReach: 0.35,
+  topAt: 0.8,
+  ears: [
+    { root: [-0.68, 0.58, -0.1], tip: [-0.67, 0.93, -0.9], ref: [1, 0, 0], order: [0, 1, 2, 3] },
+    { root: [-0.3, 0.58, 0.0], tip: [-0.03, 1.0, -0.29], ref: [0, 0, 1], order: [0, 1, 2, 3] },
+  ],
+  gap: { s1: [-0.56, 0.58, 0.1], s2: [-0.56, 0.58, -0.25], bf1: [-0.82, 0.55, 0.05], bf2: [-0.82, 0.55, -0.3],
+    ab1: [-0.1, 0.58, 0.1], ab2: [-0.1, 0.58, -0.25] },
+  split: { l: [-0.3, 0.3, -0.35], r: [-0.3, 0.3, 0.75], nl: [-0.1, -1, -0.4], nr: [-0.1, -1, 0.85] },
+};
+
 const RECIPES = {
+  'fandisk-features': {
+    mesh: 'fandisk.obj',
+    make: fandisk,
+  },
   'eight-rims': {
     mesh: 'eight.obj',
     make: eight,
@@ -143,6 +464,10 @@ const RECIPES = {
   'fandisk-cube': {
     mesh: 'fandisk.obj',
     make: (s) => cube(s),
+  },
+  'bunny-ears': {
+    mesh: 'bunny_28k.obj',
+    make: bunny,
   },
   'bunny-cube': {
     mesh: 'bunny_28k.obj',
