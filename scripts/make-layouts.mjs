@@ -329,8 +329,8 @@ function fandisk(s) {
   // The plane z = 0.35 beside the arches: its fillet is the outer arch.
   const M9 = on(c21, [0.174, 0.096, null]), U9 = on(c23, [s.p(M9)[0], null, null]);
   const L9 = on(c27, [null, s.p(M9)[1], null]);
-  // The big curved face: the inner arch is its fillet.
-  const M0 = on(c0, [0.177, 0.028, null]), C0t = on(c29, [s.p(M0)[0], null, null]);
+  // The big curved face: a line from the inner arch (M0) to the S-curve (Pm).
+  const M0 = on(c0, [...(FANDISK_OPTIONS.m0 ?? [0.1, -0.1]), null]), C0t = on(c29, [s.p(M0)[0], null, null]);
   const C28 = on(c28, [null, s.p(M0)[1], null]);
   const c30 = chain(K.c4192, K.c5367), c31 = chain(K.c5331, K.c5526);
   // The belts around the z axis (arch, bottom, side x = min, top, stepped side) at z = 0.06.
@@ -340,7 +340,7 @@ function fandisk(s) {
   const X7 = s.near([s.p(M7)[0], s.p(M7)[1], 0.015]);
   // The crescent between the S-curve and the line z = z(T1) on top: three faces around O.
   const O7 = s.near([0.25, 0.2555, -0.25]), Tm = on(c22, [null, null, -0.29]), Lm = s.near([0.1, 0.2555, s.p(T1)[2]]);
-  const Pm = on(c29, [0.1, null, null]);
+  const Pm = on(c29, [FANDISK_OPTIONS.pmX ?? -0.1, null, null]);
   const N = { ...K, T1, T2, T3, B0, M6, C6a, C6b, TA6, TB6, AT6, M7, AT7, TA7, TB7, C7a, M9, U9, L9, M0, C0t, C28, P31, P30, X06, X26, P0, X7, O7, Tm, Lm, Pm };
   const opt = { ...FANDISK_DEFAULT, ...FANDISK_OPTIONS };
   for (const name of [...opt.base, ...opt.extra]) b.node(N[name]);
@@ -392,10 +392,22 @@ function bunny(s) {
   const via = (q) => [s.nearest(q)];
   const C = corner;
   // The box: bottom, sides, with the split belt (M) down the sides and across the bottom.
-  const cubeEdges = [[C.bfl, C.bfr], [C.bbl, C.bbr], [C.bfl, M.nl], [M.nl, C.bbl], [C.bfr, M.nr], [M.nr, C.bbr],
+  let cubeEdges = [[C.bfl, C.bfr], [C.bbl, C.bbr], [C.bfl, M.nl], [M.nl, C.bbl], [C.bfr, M.nr], [M.nr, C.bbr],
     [C.tfl, C.tfr], [C.tbl, C.tbr], [C.tfl, M.l], [M.l, C.tbl], [C.tfr, M.r], [M.r, C.tbr],
     [C.bfl, C.tfl], [C.bfr, C.tfr], [C.bbl, C.tbl], [C.bbr, C.tbr],
     [M.l, M.nl], [M.r, M.nr], [M.nl, M.nr]];
+  if (opt.belt) {
+    // A belt around the body at mid height: a node on each upright edge, lines between them.
+    const ups = [[C.bfl, C.tfl], [M.nl, M.l], [C.bbl, C.tbl], [C.bbr, C.tbr], [M.nr, M.r], [C.bfr, C.tfr]];
+    const mids = ups.map(([lo, hi]) => {
+      const q = s.p(lo).map((x, k) => x + opt.belt * (s.p(hi)[k] - x));
+      const o = unbox(q).map((x, k) => x * (k === 1 ? 1 : 1.4));
+      return s.nearest(o, body);
+    });
+    cubeEdges = cubeEdges.filter(([u, v]) => !ups.some(([a, c]) => a === u && c === v));
+    ups.forEach(([lo, hi], i) => cubeEdges.push([lo, mids[i]], [mids[i], hi]));
+    mids.forEach((m, i) => cubeEdges.push([m, mids[(i + 1) % 6]]));
+  }
   const bend = new Map(Object.entries(opt.bend).map(([k, q]) => [k, via(q)]));
   const name = (v) => Object.keys(C).find((k) => C[k] === v) ?? Object.keys(M).find((k) => M[k] === v);
   for (const [u, v] of cubeEdges) b.line(u, v, { align: false, via: bend.get(`${name(u)}-${name(v)}`) ?? [] });
