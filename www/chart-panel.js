@@ -7,7 +7,7 @@ import { colorAt } from './heatmap.js';
 const PALETTE = ['#9ad0ec', '#f6c28b', '#b5e2a0', '#e7a9c9', '#cdb4f0', '#f3e58c', '#9fe0d3', '#f2a89b',
   '#a9bff5', '#d7e89a', '#f0b9e8', '#8fd6b4'];
 /** Triangles drawn per task. */
-const SLICE = 3000;
+const SLICE = 1500;
 
 export class ChartPanel {
   constructor() {
