@@ -271,12 +271,12 @@ const FANDISK_DEFAULT = {
     // Top: lines from the stepped side's top edge to the fillet and the S-curve, and down from the fillet.
     ['T1', 'C7a'], ['T3', 'M7'], ['M7', 'X7'], ['X7', 'C7a'],
   ],
-  // The big curved face: split from the middle of the inner arch (M0) to the middle of the S-curve.
-  lines: [['M0', 'Pm']],
-  // The crescent between the S-curve and the line T1-C7a on top is a chart with a corner (Pm) in
-  // the middle of the S-curve; the lower part of the curved face has its corners at M0 and Pm.
-  patches: [['c4745', 'Pm', 'C7a', 'T1'], ['M0', 'c5526', 'c4192', 'Pm']],
-  extra: ['M0'],
+  // The big curved face: split from the end of the inner arch (1081) to the S-curve (Pm).
+  lines: [['c1081', 'Pm']],
+  // The crescent between the S-curve and the line T1-C7a on top is a chart with a corner (Pm) on
+  // the S-curve.
+  patches: [['c4745', 'Pm', 'C7a', 'T1']],
+  extra: [],
   alignLines: true,
   // Rectangular charts: on this CAD part nearly every face is a rectangle on the surface.
   chart: 'rect',
@@ -327,7 +327,7 @@ function fandisk(s) {
   const TA7 = on(c33, [-0.011, null, 0.449]), TB7 = on(c33, [-0.193, null, 0.449]);
   const C7a = on(c29, [s.p(M7)[0], null, null]);
   // The plane z = 0.35 beside the arches: its fillet is the outer arch.
-  const M9 = on(c21, [0.174, 0.096, null]), U9 = on(c23, [s.p(M9)[0], null, null]);
+  const M9 = on(c21, [...(FANDISK_OPTIONS.m9 ?? [0.174, 0.096]), null]), U9 = on(c23, [s.p(M9)[0], null, null]);
   const L9 = on(c27, [null, s.p(M9)[1], null]);
   // The big curved face: a line from the inner arch (M0) to the S-curve (Pm).
   const M0 = on(c0, [...(FANDISK_OPTIONS.m0 ?? [0.1, -0.1]), null]), C0t = on(c29, [s.p(M0)[0], null, null]);
@@ -340,8 +340,17 @@ function fandisk(s) {
   const X7 = s.near([s.p(M7)[0], s.p(M7)[1], 0.015]);
   // The crescent between the S-curve and the line z = z(T1) on top: three faces around O.
   const O7 = s.near([0.25, 0.2555, -0.25]), Tm = on(c22, [null, null, -0.29]), Lm = s.near([0.1, 0.2555, s.p(T1)[2]]);
-  const Pm = on(c29, [FANDISK_OPTIONS.pmX ?? -0.1, null, null]);
-  const N = { ...K, T1, T2, T3, B0, M6, C6a, C6b, TA6, TB6, AT6, M7, AT7, TA7, TB7, C7a, M9, U9, L9, M0, C0t, C28, P31, P30, X06, X26, P0, X7, O7, Tm, Lm, Pm };
+  const Pm = on(c29, [FANDISK_OPTIONS.pmX ?? -0.15, null, null]);
+  /** The vertex halfway along a chain (by length). */
+  const half = (path) => {
+    const d = [0];
+    for (let k = 1; k < path.length; k++) d.push(d[k - 1] + Math.hypot(...s.p(path[k]).map((x, j) => x - s.p(path[k - 1])[j])));
+    return path[d.findIndex((x) => x >= d.at(-1) / 2)];
+  };
+  // The middles of the arches' arcs, for a radial line across the arches.
+  const R17 = half(chain(K.c2145, K.c2366)), R13 = half(chain(K.c1972, K.c2012)), R8 = half(chain(K.c1167, K.c1358));
+  const R3 = half(chain(K.c903, K.c1078)), R0 = half(c0), R21 = half(c21);
+  const N = { ...K, R17, R13, R8, R3, R0, R21, T1, T2, T3, B0, M6, C6a, C6b, TA6, TB6, AT6, M7, AT7, TA7, TB7, C7a, M9, U9, L9, M0, C0t, C28, P31, P30, X06, X26, P0, X7, O7, Tm, Lm, Pm };
   const opt = { ...FANDISK_DEFAULT, ...FANDISK_OPTIONS };
   for (const name of [...opt.base, ...opt.extra]) b.node(N[name]);
   for (const c of f.chains) if (b.index.has(c[0]) && b.index.has(c.at(-1)) && corners.includes(c[0]) && corners.includes(c.at(-1))) b.chain(c);
