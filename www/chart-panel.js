@@ -19,6 +19,10 @@ export class ChartPanel {
     pane.innerHTML = `
       <header class="chart-pane-head">
         <h2>Charts <span class="chart-pane-note" id="chart-pane-note"></span></h2>
+        <div class="segmented" role="radiogroup" aria-label="Chart scale">
+          <button type="button" role="radio" data-chart-scale="common" aria-checked="true" title="all charts at one scale: sizes compare">One scale</button>
+          <button type="button" role="radio" data-chart-scale="each" aria-checked="false" title="every chart fills its cell: shapes are easier to see">Fit each</button>
+        </div>
         <div class="segmented" role="radiogroup" aria-label="Triangle colours">
           <button type="button" role="radio" data-chart-fill="face" aria-checked="true">Faces</button>
           <button type="button" role="radio" data-chart-fill="distortion" aria-checked="false">Distortion</button>
@@ -33,6 +37,8 @@ export class ChartPanel {
     document.body.append(pane);
     this.pane = pane;
     this.fill = 'face';
+    /** 'common': one scale for all charts; 'each': every chart fills its cell. */
+    this.scaleMode = 'common';
     this.data = null;
     this.drawing = 0;
     /** Settles when the last draw has finished (for tests). */
@@ -42,6 +48,13 @@ export class ChartPanel {
       b.addEventListener('click', () => {
         this.fill = b.dataset.chartFill;
         for (const o of pane.querySelectorAll('[data-chart-fill]')) o.setAttribute('aria-checked', String(o === b));
+        this.draw();
+      });
+    }
+    for (const b of pane.querySelectorAll('[data-chart-scale]')) {
+      b.addEventListener('click', () => {
+        this.scaleMode = b.dataset.chartScale;
+        for (const o of pane.querySelectorAll('[data-chart-scale]')) o.setAttribute('aria-checked', String(o === b));
         this.draw();
       });
     }
@@ -87,23 +100,23 @@ export class ChartPanel {
     const rows = Math.ceil(n / cols);
     const cw = W / cols, ch = H / rows;
     const pad = 14;
-    // One scale for all charts, from the largest extent.
-    let extent = 0;
-    const boxes = data.charts.map((c) => {
+    // One scale for all charts (from the largest extent), or one per chart.
+    const extents = data.charts.map((c) => {
       const xs = c.corners.map((p) => p[0]), ys = c.corners.map((p) => p[1]);
       const box = [Math.min(...xs), Math.min(...ys), Math.max(...xs), Math.max(...ys)];
-      extent = Math.max(extent, (box[2] - box[0]) / (cw - 2 * pad), (box[3] - box[1]) / (ch - 2 * pad - 12));
-      return box;
+      return { box, extent: Math.max((box[2] - box[0]) / (cw - 2 * pad), (box[3] - box[1]) / (ch - 2 * pad - 12)) };
     });
-    const scale = extent > 0 ? 1 / extent : 1;
+    const common = Math.max(...extents.map((e) => e.extent));
     // Chart f's uv → canvas: centred in its cell, v up.
-    const frames = boxes.map((b, f) => {
+    const frames = extents.map(({ box: b, extent }, f) => {
+      const e = this.scaleMode === 'each' ? extent : common;
+      const scale = e > 0 ? 1 / e : 1;
       const cx = (f % cols) * cw + cw / 2, cy = Math.floor(f / cols) * ch + ch / 2 + 6;
       const mx = (b[0] + b[2]) / 2, my = (b[1] + b[3]) / 2;
-      return [cx - mx * scale, cy + my * scale];
+      return [cx - mx * scale, cy + my * scale, scale];
     });
-    const X = (f, u) => frames[f][0] + u * scale;
-    const Y = (f, v) => frames[f][1] - v * scale;
+    const X = (f, u) => frames[f][0] + u * frames[f][2];
+    const Y = (f, v) => frames[f][1] - v * frames[f][2];
 
     // Chart quads, filled faintly, with their kind.
     ctx.font = '11px system-ui, sans-serif';

@@ -272,6 +272,9 @@ export class Solver {
     }
     this.stop('a new run');
     clearTimeout(this.autoTimer);
+    // The worker's active run is replaced at once: what is shown must not outlive it (a
+    // cancelled run would leave a picture whose exports are another run's).
+    this.clearResults();
     const token = { cancelled: false, waiting: false };
     this.current = token;
     const t0 = performance.now();
