@@ -325,7 +325,7 @@ function fandisk(s) {
   // Top (y = max): the tab, the fillet, lines to the stepped side and the S-curve.
   const M7 = on(c33, [-0.263, null, 0.159]), AT7 = on(c33, [-0.207, null, 0.37]);
   const TA7 = on(c33, [-0.011, null, 0.449]), TB7 = on(c33, [-0.193, null, 0.449]);
-  const C7a = on(c29, [s.p(M7)[0], null, null]);
+  const C7a = on(c29, [FANDISK_OPTIONS.c7aX ?? s.p(M7)[0], null, null]);
   // The plane z = 0.35 beside the arches: its fillet is the outer arch.
   const M9 = on(c21, [...(FANDISK_OPTIONS.m9 ?? [0.174, 0.096]), null]), U9 = on(c23, [s.p(M9)[0], null, null]);
   const L9 = on(c27, [null, s.p(M9)[1], null]);
@@ -379,6 +379,14 @@ function bunny(s) {
     return y < 0.55 && !(x < -0.4 && z < -0.45 && y > 0.25);
   });
   const corner = Object.fromEntries(Object.entries(opt.corners).map(([k, q]) => [k, s.nearest(q, body)]));
+  if (opt.cubeCorners) {
+    // The body's corners as in bunny-cube: the vertices farthest toward the box's corners.
+    const keep = ([, y]) => y < opt.cubeCorners;
+    for (const [k, d] of Object.entries({ fl: [-1, 1, -1], fr: [-1, 1, 1], bl: [1, 1, -1], br: [1, 1, 1] })) {
+      corner['t' + k] = s.extreme(d, keep);
+      corner['b' + k] = s.extreme([d[0], -1, d[2]], keep);
+    }
+  }
   /** Four vertices around the ear at fraction t from root to tip, in the plane across the
    * ear's axis: toward +u, +v, -u, -v, where u is `ref` made square to the axis. */
   const ring = (root, tip, t, ref) => {
@@ -398,6 +406,12 @@ function bunny(s) {
   const head = [...s.vertices()].filter((i) => unbox(s.p(i))[1] > 0.4);
   const G = Object.fromEntries(Object.entries(opt.gap).map(([k, q]) => [k, s.nearest(q, head)]));
   const M = Object.fromEntries(['l', 'r', 'nl', 'nr'].map((k) => [k, s.nearest(opt.split[k], body)]));
+  if (opt.cubeCorners) {
+    // The split nodes halfway along the box's long edges, pushed out of the body to the surface.
+    const mid = (a, c, f) => s.nearest(unbox(s.p(a)).map((x, k) => (k === 1 ? 1 : 1.3) * (x + f * (unbox(s.p(c))[k] - x))), body);
+    M.l = mid(corner.tfl, corner.tbl, opt.splitAt); M.r = mid(corner.tfr, corner.tbr, opt.splitAt);
+    M.nl = mid(corner.bfl, corner.bbl, opt.splitAt); M.nr = mid(corner.bfr, corner.bbr, opt.splitAt);
+  }
   const via = (q) => [s.nearest(q)];
   const C = corner;
   // The box: bottom, sides, with the split belt (M) down the sides and across the bottom.
@@ -405,6 +419,11 @@ function bunny(s) {
     [C.tfl, C.tfr], [C.tbl, C.tbr], [C.tfl, M.l], [M.l, C.tbl], [C.tfr, M.r], [M.r, C.tbr],
     [C.bfl, C.tfl], [C.bfr, C.tfr], [C.bbl, C.tbl], [C.bbr, C.tbr],
     [M.l, M.nl], [M.r, M.nr], [M.nl, M.nr]];
+  if (opt.noBelt) {
+    // Ml and Mr stay as T-vertices of the side faces; no belt down the sides and across the bottom.
+    cubeEdges = cubeEdges.filter(([u, v]) => ![u, v].includes(M.nl) && ![u, v].includes(M.nr));
+    cubeEdges.push([C.bfl, C.bbl], [C.bfr, C.bbr]);
+  }
   if (opt.belt) {
     // A belt around the body at mid height: a node on each upright edge, lines between them.
     const ups = [[C.bfl, C.tfl], [M.nl, M.l], [C.bbl, C.tbl], [C.bbr, C.tbr], [M.nr, M.r], [C.bfr, C.tfr]];
@@ -413,7 +432,7 @@ function bunny(s) {
       const o = unbox(q).map((x, k) => x * (k === 1 ? 1 : 1.4));
       return s.nearest(o, body);
     });
-    cubeEdges = cubeEdges.filter(([u, v]) => !ups.some(([a, c]) => a === u && c === v));
+    cubeEdges = cubeEdges.filter(([u, v]) => !ups.some(([a, c]) => (a === u && c === v) || (a === v && c === u)));
     ups.forEach(([lo, hi], i) => cubeEdges.push([lo, mids[i]], [mids[i], hi]));
     mids.forEach((m, i) => cubeEdges.push([m, mids[(i + 1) % 6]]));
   }
@@ -455,10 +474,13 @@ function bunny(s) {
 }
 const BUNNY_OPTIONS = JSON.parse(process.env.BUNNY ?? '{}');
 const BUNNY_DEFAULT = {
+  // Body corners (box fractions): feet below, the back's top behind the ears, the head's sides at
+  // the height of the cheeks.
   corners: {
-    tbl: [0.55, 0.2, -0.3], tbr: [0.55, 0.2, 0.75], tfl: [-0.85, 0.35, -0.3], tfr: [-0.85, 0.35, 0.6],
+    tbl: [0.05, 0.4, -0.45], tbr: [0.05, 0.4, 0.75], tfl: [-0.9, 0.05, -0.35], tfr: [-0.9, 0.05, 0.65],
     bfl: [-0.45, -1, -0.35], bfr: [-0.45, -1, 0.8], bbl: [0.75, -0.95, -0.4], bbr: [0.75, -0.95, 0.85],
   },
+
 
   bend: { 'tfl-tfr': [-1, 0.3, 0.0] },
   baseAt: 0.2,
