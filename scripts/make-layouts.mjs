@@ -275,7 +275,10 @@ const FANDISK_DEFAULT = {
   lines: [['c1081', 'Pm']],
   // The crescent between the S-curve and the line T1-C7a on top is a chart with a corner (Pm) on
   // the S-curve.
-  patches: [['c4745', 'Pm', 'C7a', 'T1']],
+  // Charts are rectangles (below) except where the face is not one on the surface: the lower
+  // curved face, and the two tapered arms around the outer arch's middle (M9).
+  patches: [['c4745', 'Pm', 'C7a', 'T1'], ['c900', 'c1081', 'Pm', 'c4745', 'quad'],
+    ['c3243', 'c3444', 'U9', 'M9', 'quad'], ['c4121', 'M9', 'L9', 'c4124', 'quad']],
   extra: [],
   alignLines: true,
   // Rectangular charts: on this CAD part nearly every face is a rectangle on the surface.
@@ -355,7 +358,9 @@ function fandisk(s) {
   for (const name of [...opt.base, ...opt.extra]) b.node(N[name]);
   for (const c of f.chains) if (b.index.has(c[0]) && b.index.has(c.at(-1)) && corners.includes(c[0]) && corners.includes(c.at(-1))) b.chain(c);
   for (const [u, v] of [...opt.baseLines, ...opt.lines]) b.line(N[u], N[v], { align: opt.alignLines });
-  for (const corners4 of opt.patches) b.patches.push({ corners: corners4.map((n) => b.index.get(N[n])) });
+  for (const [a, b2, c, d, chart] of opt.patches) {
+    b.patches.push({ corners: [a, b2, c, d].map((n) => b.index.get(N[n])), ...(chart ? { chart } : {}) });
+  }
   return { ...b.layout(), ...(opt.chart ? { defaults: { chart: opt.chart } } : {}) };
 }
 
