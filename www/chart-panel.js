@@ -160,7 +160,10 @@ export class ChartPanel {
         ctx.lineTo(X(f, uv[o + 4]), Y(f, uv[o + 5]));
         ctx.closePath();
         let color;
-        if (byDistortion) {
+        const signed = (uv[o + 2] - uv[o]) * (uv[o + 5] - uv[o + 1]) - (uv[o + 3] - uv[o + 1]) * (uv[o + 4] - uv[o]);
+        if (byDistortion && signed <= 0) {
+          color = '#ff296b'; // flipped, as in the heat map
+        } else if (byDistortion) {
           const c = colorAt((Math.log10(Math.max(distortion[t], 1e-30)) - lo) / (hi - lo));
           color = `rgb(${Math.round(c[0] * 255)},${Math.round(c[1] * 255)},${Math.round(c[2] * 255)})`;
         } else {

@@ -77,6 +77,11 @@ export function renderLegend(el, [lo, hi], distortion) {
   }
   const note = document.createElement('div');
   note.className = 'legend-note';
-  note.textContent = `mean ${distortion.mean.toPrecision(3)} ▲ · max ${distortion.max.toPrecision(3)} △ · ${distortion.flipped} flipped`;
+  note.textContent = `mean ${distortion.mean.toPrecision(3)} ▲ · max ${distortion.max.toPrecision(3)} △ · `;
+  const flipped = document.createElement('span');
+  flipped.className = 'legend-flipped';
+  flipped.textContent = `${distortion.flipped} flipped`;
+  flipped.title = 'triangles whose chart image is turned over, painted in this colour';
+  note.append(flipped);
   el.append(title, bar, ticks, note);
 }

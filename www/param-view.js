@@ -55,6 +55,8 @@ void main() {
     vec2 d = abs(fract(g - 0.5) - 0.5) / max(fwidth(g), vec2(1e-6));
     float line = 1.0 - clamp(min(d.x, d.y) - 0.25, 0.0, 1.0);
     base = mix(base, vec3(0.08, 0.09, 0.11), 0.55 * line);
+  } else if (vDistortion < 0.0) {
+    base = vec3(1.0, 0.16, 0.42); // flipped
   } else {
     float t = (log(max(vDistortion, 1e-30)) / log(10.0) - range.x) / (range.y - range.x);
     base = heat(t);

@@ -65,7 +65,8 @@ export const MSG = Object.freeze({
    *           uv: Float32Array (6 per triangle: its corners' uv in its face's chart),
    *           face: Uint32Array (per triangle: its layout face),
    *           triangleDistortion: Float32Array (per triangle: ‖JᵀJ−I‖²),
-   *           cornerDistortion: Float32Array (3 per triangle, the same per corner),
+   *           cornerDistortion: Float32Array (3 per triangle, the same per corner; negated
+   *             for a flipped triangle),
    *           cornerFace: Float32Array (3 per triangle: its face, per corner) }
    *         — arrays transferred
    */

@@ -137,7 +137,12 @@ function paramView(s) {
       position[o + 3 + k] = pos[b + k];
       position[o + 6 + k] = pos[c + k];
     }
-    cornerDistortion[3 * t] = cornerDistortion[3 * t + 1] = cornerDistortion[3 * t + 2] = distortion[t];
+    // Flipped triangles (chart image of non-positive area, as the core counts them) carry
+    // their distortion negated: the heat map paints them apart.
+    const u = 6 * t;
+    const signed = (uv[u + 2] - uv[u]) * (uv[u + 5] - uv[u + 1]) - (uv[u + 3] - uv[u + 1]) * (uv[u + 4] - uv[u]);
+    const d = signed <= 0 ? -Math.max(distortion[t], 1e-30) : distortion[t];
+    cornerDistortion[3 * t] = cornerDistortion[3 * t + 1] = cornerDistortion[3 * t + 2] = d;
     cornerFace[3 * t] = cornerFace[3 * t + 1] = cornerFace[3 * t + 2] = face[t];
   }
   return { triangles: n, position, uv, face, triangleDistortion: distortion, cornerDistortion, cornerFace };
