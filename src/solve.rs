@@ -92,6 +92,12 @@ pub enum SolveError {
     OutOfMemory,
     /// The factor has more nonzeros than the solver's index type can address.
     IndexOverflow,
+    /// [`solve_lu`]: the square matrix is singular — structurally (no pivot at `column`) or
+    /// numerically (a zero pivot made the solution non-finite; `column` is `None`).
+    Singular {
+        /// The elimination step at which no pivot was found, if known.
+        column: Option<usize>,
+    },
 }
 
 impl fmt::Display for SolveError {
@@ -127,6 +133,12 @@ impl fmt::Display for SolveError {
             SolveError::OutOfMemory => write!(f, "sparse Cholesky: out of memory"),
             SolveError::IndexOverflow => {
                 write!(f, "sparse Cholesky: the factor is too large to index")
+            }
+            SolveError::Singular { column: Some(c) } => {
+                write!(f, "sparse LU: the matrix is singular (no pivot at step {c})")
+            }
+            SolveError::Singular { column: None } => {
+                write!(f, "sparse LU: the matrix is numerically singular")
             }
         }
     }
@@ -416,6 +428,64 @@ impl SpdSolver {
     pub fn is_factored(&self) -> bool {
         self.factored
     }
+}
+
+/// Solves the square, generally non-symmetric system $A x = b$ by sparse LU with partial
+/// (row) pivoting and a COLAMD column ordering (faer's `SparseColMat::sp_lu`), in place: on
+/// return `b` holds $x$. `A` is given as `(row, col)` entries with `values`; duplicated
+/// entries are summed. Nothing is kept between calls (the symbolic analysis is redone), so
+/// this serves comparisons and one-off solves; the SPD systems of the parameterization use
+/// [`SpdSolver`].
+///
+/// # Errors
+/// - [`SolveError::BadPattern`] for an entry out of range;
+/// - [`SolveError::ValueCountMismatch`], [`SolveError::RhsLengthMismatch`];
+/// - [`SolveError::NonFiniteValue`], [`SolveError::NonFiniteRhs`];
+/// - [`SolveError::Singular`] if the matrix is structurally or numerically singular;
+/// - [`SolveError::OutOfMemory`] / [`SolveError::IndexOverflow`] from faer.
+///
+/// On error `b` is left unchanged.
+pub fn solve_lu(n: usize, entries: &[(u32, u32)], values: &[f64], b: &mut [f64]) -> Result<(), SolveError> {
+    use faer::linalg::solvers::Solve;
+    use faer::sparse::linalg::LuError;
+    use faer::sparse::{SparseColMat, Triplet};
+    if values.len() != entries.len() {
+        return Err(SolveError::ValueCountMismatch { expected: entries.len(), got: values.len() });
+    }
+    if b.len() != n {
+        return Err(SolveError::RhsLengthMismatch { expected: n, got: b.len() });
+    }
+    if let Some(entry) = values.iter().position(|v| !v.is_finite()) {
+        return Err(SolveError::NonFiniteValue { entry });
+    }
+    if let Some(index) = b.iter().position(|v| !v.is_finite()) {
+        return Err(SolveError::NonFiniteRhs { index });
+    }
+    if let Some(&(r, c)) = entries.iter().find(|&&(r, c)| r as usize >= n || c as usize >= n) {
+        return Err(SolveError::BadPattern(format!("entry ({r}, {c}) is outside the {n}×{n} matrix")));
+    }
+    if n == 0 {
+        return Ok(());
+    }
+    let triplets: Vec<Triplet<usize, usize, f64>> =
+        entries.iter().zip(values).map(|(&(r, c), &val)| Triplet::new(r as usize, c as usize, val)).collect();
+    let a = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).map_err(|e| match e {
+        faer::sparse::CreationError::Generic(e) => SolveError::from(e),
+        faer::sparse::CreationError::OutOfBounds { row, col } => {
+            SolveError::BadPattern(format!("entry ({row}, {col}) is outside the {n}×{n} matrix"))
+        }
+    })?;
+    let lu = a.sp_lu().map_err(|e| match e {
+        LuError::SymbolicSingular { index } => SolveError::Singular { column: Some(index) },
+        LuError::Generic(e) => SolveError::from(e),
+    })?;
+    let mut x = b.to_vec();
+    lu.solve_in_place(MatMut::from_column_major_slice_mut(&mut x, n, 1));
+    if x.iter().any(|v| !v.is_finite()) {
+        return Err(SolveError::Singular { column: None });
+    }
+    b.copy_from_slice(&x);
+    Ok(())
 }
 
 #[cfg(test)]
@@ -721,5 +791,27 @@ mod tests {
             t_refactor.as_secs_f64() * 1e3,
         );
         assert!(res < 1e-10, "relative residual {res}");
+    }
+    #[test]
+    fn lu_solves_a_non_symmetric_system_and_reports_singularity() {
+        // A = [[2, 1, 0], [0, 3, 1], [1, 0, 4]], with the (0, 0) entry split in two.
+        let entries = [(0, 0), (0, 1), (1, 1), (1, 2), (2, 0), (2, 2), (0, 0)];
+        let values = [1.5, 1.0, 3.0, 1.0, 1.0, 4.0, 0.5];
+        let x_true = [1.0, -2.0, 0.5];
+        let mut b = [2.0 * 1.0 - 2.0, 3.0 * -2.0 + 0.5, 1.0 + 4.0 * 0.5];
+        solve_lu(3, &entries, &values, &mut b).unwrap();
+        for (x, t) in b.iter().zip(&x_true) {
+            assert!((x - t).abs() < 1e-14, "{b:?}");
+        }
+        // Structurally singular: column 1 is empty.
+        let mut b = [1.0, 1.0];
+        let e = solve_lu(2, &[(0, 0), (1, 0)], &[1.0, 1.0], &mut b).unwrap_err();
+        assert!(matches!(e, SolveError::Singular { .. }), "{e:?}");
+        assert_eq!(b, [1.0, 1.0]);
+        // Numerically singular: [[1, 1], [1, 1]].
+        let e = solve_lu(2, &[(0, 0), (0, 1), (1, 0), (1, 1)], &[1.0; 4], &mut b).unwrap_err();
+        assert!(matches!(e, SolveError::Singular { .. }), "{e:?}");
+        assert!(matches!(solve_lu(2, &[(2, 0)], &[1.0], &mut b), Err(SolveError::BadPattern(_))));
+        solve_lu(0, &[], &[], &mut []).unwrap();
     }
 }

@@ -9,6 +9,7 @@
 pub mod anderson;
 pub mod chart;
 pub mod cut;
+pub mod eq3;
 pub mod input_uv;
 pub mod system;
 pub mod transition;
@@ -35,12 +36,24 @@ pub struct ParamOptions {
     /// Accelerate the chart-optimization loop (Anderson mixing, see [`anderson`]); false
     /// runs the paper's plain loop. Default true.
     pub accelerate: bool,
+    /// Which global system every solve uses. Default [`Formulation::Symmetric`].
+    pub formulation: Formulation,
 }
 
 impl Default for ParamOptions {
     fn default() -> Self {
-        ParamOptions { iterations: 3, align: true, accelerate: true }
+        ParamOptions { iterations: 3, align: true, accelerate: true, formulation: Formulation::Symmetric }
     }
+}
+
+/// The global system of eq. 3 (see [`system`] for why we chose the symmetric one).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Formulation {
+    /// Dirichlet energy with each triangle in its face's chart, sparse Cholesky ([`system`]).
+    #[default]
+    Symmetric,
+    /// Eq. 3 as written, non-symmetric, sparse LU ([`eq3`]); for comparison.
+    Eq3,
 }
 
 /// Distortion of one solve, over the triangles of the refined mesh.
@@ -81,6 +94,9 @@ pub struct ParamSession {
     weights: Vec<[f64; 3]>,
     all_aligned: System,
     user_aligned: System,
+    formulation: Formulation,
+    /// The curves aligned in the final solve (for [`Formulation::Eq3`], which keeps no state).
+    user_tags: Vec<bool>,
     history: Vec<IterationStats>,
     last: Solution,
     final_solution: Option<(Solution, Distortion)>,
@@ -146,6 +162,7 @@ impl ParamSession {
             .collect();
         let all_aligned = System::new(&cut, &every);
         let user_aligned = System::new(&cut, &tags);
+        let user_tags = tags;
         let weights = system::cotangent_halves(&cut);
         let mut session = ParamSession {
             cut,
@@ -156,6 +173,8 @@ impl ParamSession {
             weights,
             all_aligned,
             user_aligned,
+            formulation: options.formulation,
+            user_tags,
             history: Vec::new(),
             last: Solution { corner_uv: Vec::new() },
             final_solution: None,
@@ -208,6 +227,16 @@ impl ParamSession {
 
     fn solve(&mut self, all: bool) -> Result<Solution, ParamError> {
         let (nodes, transitions) = self.frames();
+        if self.formulation == Formulation::Eq3 {
+            let every;
+            let aligned = if all {
+                every = vec![true; self.sides.len()];
+                &every
+            } else {
+                &self.user_tags
+            };
+            return eq3::solve_eq3(&self.cut, aligned, &nodes, &self.sides, &transitions, &self.weights);
+        }
         let system = if all { &mut self.all_aligned } else { &mut self.user_aligned };
         system.solve(&self.cut, &nodes, &self.sides, &transitions, &self.weights)
     }
