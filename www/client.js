@@ -138,9 +138,11 @@ export class CoreClient {
     // `replay` stays as it is, so a restart during this one sends the same again.
     const mesh = replay.mesh.bytes.slice(0);
     const options = { quiet: true, replaying: true };
+    // Both sent at once: a request made after restart() then queues behind them in the
+    // worker (it handles messages in order), instead of slipping in between.
     const loaded = this.load(mesh, replay.mesh.name, options);
-    const placed = replay.layout == null ? loaded : loaded.then(() => this.setLayout(replay.layout, options));
-    return placed.then(() => {}, () => {});
+    const placed = replay.layout == null ? null : this.setLayout(replay.layout, options);
+    return Promise.allSettled([loaded, placed]).then(() => {});
   }
 
   /** Sends one request; resolves to its `result`, rejects with a CoreError. */
