@@ -245,10 +245,13 @@ function eight(s) {
  * fandisk.obj, a CAD part (x from -0.46 to 0.46, y (height) from -0.26 to 0.26, z from -0.5 to
  * 0.5). Its sharp feature lines (dihedral angle > 30°) cut it into twelve smooth regions; the
  * layout has a node at every corner of the feature lines and the feature curves as aligned
- * edges. Regions that are not quadrilaterals are split by straight lines: at every reflex
- * corner a line continues one of its feature lines across the region, and a concave quarter
- * circle (a fillet) gets a node at its middle with two lines leaving it, as if it were the
- * reflex corner it rounds off. The two fading creases on the big curved face are left out.
+ * edges (via the feature's vertices). Regions that are not quadrilaterals are split by straight
+ * lines: at a reflex corner a line continues one of its feature lines across the region; a
+ * concave quarter circle (a fillet) gets a node at its middle with two lines leaving it, as if it
+ * were the reflex corner it rounds off. Lines continue around the part as belts (a row of quads
+ * must close on itself; a T-vertex layout whose rows cannot close is rejected by the sample
+ * counts). The two fading creases on the big curved face are left out. Options
+ * (FANDISK='{...}' in the environment) override FANDISK_DEFAULT, for trying variants.
  */
 const FANDISK_OPTIONS = JSON.parse(process.env.FANDISK ?? '{}');
 const FANDISK_DEFAULT = {
@@ -365,9 +368,13 @@ function fandisk(s) {
 }
 
 /**
- * bunny_28k.obj (y up, head toward -x): a box around the body whose top is split in two
- * across the head, between the ears; each top half carries one ear: a frame of four faces
- * around the ear's base, a tube of four faces up the ear and a cap on its tip.
+ * bunny_28k.obj (y up, head toward -x, both ears on the -z half of the head): a box around the
+ * body whose top is split across the neck by a belt (down the sides, across the bottom); the top
+ * carries a frame of six faces around the two ears' bases, which share their side in the notch
+ * between the ears; each ear is a tube of four faces up to a ring at 80 % of its length, closed by
+ * a cap. 24 faces, no T-vertices, edges not aligned. Options (BUNNY='{...}' in the environment)
+ * override BUNNY_DEFAULT; `belt` (a fraction) adds a second belt around the body, `noBelt` drops
+ * the first; `cubeCorners` takes the corners as bunny-cube does.
  */
 function bunny(s) {
   const b = new Builder(s);
@@ -483,21 +490,23 @@ const BUNNY_DEFAULT = {
   // the height of the cheeks.
   corners: {
     tbl: [0.05, 0.4, -0.45], tbr: [0.05, 0.4, 0.75], tfl: [-0.9, 0.05, -0.35], tfr: [-0.9, 0.05, 0.65],
-    bfl: [-0.45, -1, -0.35], bfr: [-0.45, -1, 0.8], bbl: [0.75, -0.95, -0.4], bbr: [0.75, -0.95, 0.85],
+    bfl: [-0.45, -1, -0.309], bfr: [-0.45, -1, 0.897], bbl: [0.75, -0.96, -0.4], bbr: [0.75, -0.95, 0.931],
   },
-
-
+  // The front edge of the top runs across the face, below the ears.
   bend: { 'tfl-tfr': [-1, 0.3, 0.0] },
-  baseAt: 0.2,
+  // The ring of four nodes that closes each ear's tube: across the ear at 80 % of the way from
+  // root to tip, among vertices within 35 % of the ear's length of the ring's centre.
   ringReach: 0.35,
   topAt: 0.8,
   ears: [
-    { root: [-0.68, 0.58, -0.1], tip: [-0.67, 0.93, -0.9], ref: [1, 0, 0], order: [0, 1, 2, 3] },
-    { root: [-0.3, 0.58, 0.0], tip: [-0.03, 1.0, -0.29], ref: [0, 0, 1], order: [0, 1, 2, 3] },
+    { root: [-0.68, 0.58, -0.1], tip: [-0.67, 0.93, -0.9], ref: [1, 0, 0] },
+    { root: [-0.3, 0.58, 0.0], tip: [-0.03, 1.0, -0.29], ref: [0, 0, 1] },
   ],
+  // The ears' bases: s1, s2 in the notch between the ears (shared by both rings), bf in front of
+  // the front ear, ab behind the back ear.
   gap: { s1: [-0.56, 0.58, 0.1], s2: [-0.56, 0.58, -0.25], bf1: [-0.82, 0.55, 0.05], bf2: [-0.82, 0.55, -0.3],
-    ab1: [-0.1, 0.58, 0.1], ab2: [-0.1, 0.58, -0.25] },
-  split: { l: [-0.3, 0.3, -0.35], r: [-0.3, 0.3, 0.75], nl: [-0.1, -1, -0.4], nr: [-0.1, -1, 0.85] },
+    ab1: [-0.1, 0.58, 0.1], ab2: [-0.1, 0.481, -0.25] },
+  split: { l: [-0.187, 0.367, -0.35], r: [-0.3, 0.285, 0.75], nl: [-0.1, -1, -0.4], nr: [-0.1, -1, 0.85] },
 };
 
 const RECIPES = {
