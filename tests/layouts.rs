@@ -348,8 +348,8 @@ fn layouts_on_a_cube_and_a_torus() {
 /// The mesh each sample layout is drawn on, by name.
 fn sample_mesh(name: &str) -> Option<&'static str> {
     match name {
-        "fandisk-cube" => Some("fandisk.obj"),
-        "bunny-cube" => Some("bunny_28k.obj"),
+        _ if name.starts_with("fandisk-") => Some("fandisk.obj"),
+        _ if name.starts_with("bunny-") => Some("bunny_28k.obj"),
         _ if name.starts_with("mushroom-") => Some("mushroom.obj"),
         _ if name.starts_with("eight-") => Some("eight.obj"),
         _ => None,
@@ -357,10 +357,12 @@ fn sample_mesh(name: &str) -> Option<&'static str> {
 }
 
 /// Faces and T-vertices of each sample (as `quadlay check` prints them).
-const SAMPLES: [(&str, usize, usize); 6] = [
+const SAMPLES: [(&str, usize, usize); 8] = [
     ("bunny-cube", 6, 0),
+    ("bunny-ears", 24, 0),
     ("eight-rims", 12, 8),
     ("fandisk-cube", 6, 0),
+    ("fandisk-features", 36, 16),
     ("mushroom-4", 1, 0),
     ("mushroom-grid", 4, 0),
     ("mushroom-t", 7, 2),

@@ -29,86 +29,10 @@
 //! [`cotangent_halves`]: super::system::cotangent_halves
 
 use super::cut::CutMesh;
-use super::system::{NodePositions, ParamError, Solution};
+use super::system::{unknowns, Expr, NodePositions, ParamError, Solution, Var};
 use super::transition::Affine;
 use crate::mesh::NONE;
 use crate::solve::{solve_lu, SolveError};
-
-/// The unknowns of one vertex (numbered as in [`System`](super::system::System)).
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Var {
-    Fixed,
-    Free(u32),
-    OnSide(u32),
-}
-
-/// A vertex's chart position as a linear function of the unknowns: `u = m z[var..] + b`.
-#[derive(Debug, Clone, Copy)]
-struct Expr {
-    var: Var,
-    /// 2×2 (Free) or 2×1 in column 0 (OnSide).
-    m: [[f64; 2]; 2],
-    b: [f64; 2],
-}
-
-impl Expr {
-    fn fixed(b: [f64; 2]) -> Expr {
-        Expr { var: Var::Fixed, m: [[0.0; 2]; 2], b }
-    }
-    fn dims(&self) -> usize {
-        match self.var {
-            Var::Fixed => 0,
-            Var::Free(_) => 2,
-            Var::OnSide(_) => 1,
-        }
-    }
-    fn index(&self) -> u32 {
-        match self.var {
-            Var::Free(i) | Var::OnSide(i) => i,
-            Var::Fixed => NONE,
-        }
-    }
-    fn transformed(&self, a: &Affine) -> Expr {
-        let l = &a.m;
-        let m = std::array::from_fn(|r| std::array::from_fn(|c| l[r][0] * self.m[0][c] + l[r][1] * self.m[1][c]));
-        Expr { var: self.var, m, b: a.apply(self.b) }
-    }
-    fn eval(&self, z: &[f64]) -> [f64; 2] {
-        let zi = |k: usize| z[self.index() as usize + k];
-        match self.var {
-            Var::Fixed => self.b,
-            Var::Free(_) => std::array::from_fn(|r| self.m[r][0] * zi(0) + self.m[r][1] * zi(1) + self.b[r]),
-            Var::OnSide(_) => std::array::from_fn(|r| self.m[r][0] * zi(0) + self.b[r]),
-        }
-    }
-}
-
-/// The unknowns of every vertex, in `System::new`'s order, and their count.
-fn unknowns(cut: &CutMesh, aligned: &[bool]) -> (Vec<Var>, usize) {
-    let mut used = vec![false; cut.positions.len()];
-    for t in &cut.triangles {
-        for &v in t {
-            used[v as usize] = true;
-        }
-    }
-    let mut n = 0u32;
-    let vars = (0..cut.positions.len())
-        .map(|v| {
-            if cut.vertex_node[v] != NONE || !used[v] || cut.vertex_face[v] == NONE {
-                return Var::Fixed;
-            }
-            let c = cut.vertex_curve[v];
-            if c != NONE && aligned.get(c as usize).copied().unwrap_or(false) {
-                n += 1;
-                Var::OnSide(n - 1)
-            } else {
-                n += 2;
-                Var::Free(n - 2)
-            }
-        })
-        .collect();
-    (vars, n as usize)
-}
 
 /// The inputs of one solve, shared by the helpers.
 struct Frames<'a> {
@@ -192,7 +116,7 @@ pub fn solve_eq3(
     transitions: &[Affine],
     weights: &[[f64; 3]],
 ) -> Result<Solution, ParamError> {
-    let (vars, n) = unknowns(cut, aligned);
+    let (vars, n) = unknowns(cut, aligned, 0.0);
     let fr = Frames { cut, vars: &vars, nodes, sides, transitions };
     let mut exprs = Vec::with_capacity(cut.triangles.len());
     for (t, tri) in cut.triangles.iter().enumerate() {

@@ -82,6 +82,10 @@ struct FaceDomain {
     nodes: Vec<(u32, usize, f64)>,
 }
 
+/// Shares of each untagged curve's vertices, at each end, kept on the chart side in the
+/// final solve's successive attempts (see [`ParamSession::finish`]); ½ aligns them all.
+pub const FINAL_ANCHORS: [f64; 3] = [0.1, 0.25, 0.5];
+
 /// The state of a parameterization: refined mesh, charts, factorizations, history.
 pub struct ParamSession {
     cut: CutMesh,
@@ -160,8 +164,8 @@ impl ParamSession {
             .zip(&sides)
             .map(|(c, s)| if options.align { c.align } else { s[1] == NONE })
             .collect();
-        let all_aligned = System::new(&cut, &every);
-        let user_aligned = System::new(&cut, &tags);
+        let all_aligned = System::new(&cut, &every, 0.0);
+        let user_aligned = System::new(&cut, &tags, 0.0);
         let user_tags = tags;
         let weights = system::cotangent_halves(&cut);
         let mut session = ParamSession {
@@ -341,11 +345,34 @@ impl ParamSession {
 
     /// The final solve with the user's alignment tags (paper 3.1, step 4).
     ///
+    /// Releasing the untagged curves can fold triangles next to nodes: on coarse meshes a
+    /// corner sector of a face may be one triangle wide, and the harmonic map alone does not
+    /// keep the curves' order around a node whose chart angles differ much from its surface
+    /// angles (mushroom-t folded 10 triangles, eight-rims 2). When the released solve flips
+    /// more triangles than the all-aligned one before it, the curves' ends are kept on their
+    /// sides over a growing share of their vertices ([`FINAL_ANCHORS`]) until it does not; the
+    /// last step aligns every curve, which is the all-aligned solve itself. So the final
+    /// solve never flips more than the optimization phase, and keeps the user's freedom
+    /// wherever it can.
+    ///
     /// # Errors
     /// [`ParamError`] from the solve.
     pub fn finish(&mut self) -> Result<Distortion, ParamError> {
-        let sol = self.solve(false)?;
-        let d = self.distortion(&sol);
+        let mut sol = self.solve(false)?;
+        let mut d = self.distortion(&sol);
+        let before = self.history.last().map_or(0, |h| h.distortion.flipped);
+        if self.formulation == Formulation::Symmetric {
+            for &anchor in &FINAL_ANCHORS {
+                if d.flipped <= before {
+                    break;
+                }
+                let mut system = System::new(&self.cut, &self.user_tags, anchor);
+                system.times = self.user_aligned.times;
+                self.user_aligned = system;
+                sol = self.solve(false)?;
+                d = self.distortion(&sol);
+            }
+        }
         self.final_solution = Some((sol, d));
         Ok(d)
     }

@@ -73,7 +73,7 @@ use std::fmt;
 
 /// The unknowns of one vertex.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Var {
+pub(super) enum Var {
     /// Known: a node, or a vertex no triangle uses.
     Fixed,
     /// Free in its face's chart: unknowns `index`, `index + 1`.
@@ -119,33 +119,36 @@ impl From<SolveError> for ParamError {
 
 /// A vertex's chart position as a linear function of the unknowns: `u = m z[vars] + b`.
 #[derive(Debug, Clone, Copy)]
-struct Expr {
-    var: Var,
+pub(super) struct Expr {
+    pub(super) var: Var,
     /// 2×2 (Free) or 2×1 in column 0 (OnSide).
-    m: [[f64; 2]; 2],
-    b: [f64; 2],
+    pub(super) m: [[f64; 2]; 2],
+    pub(super) b: [f64; 2],
 }
 
 impl Expr {
-    fn dims(&self) -> usize {
+    pub(super) fn fixed(b: [f64; 2]) -> Expr {
+        Expr { var: Var::Fixed, m: [[0.0; 2]; 2], b }
+    }
+    pub(super) fn dims(&self) -> usize {
         match self.var {
             Var::Fixed => 0,
             Var::Free(_) => 2,
             Var::OnSide(_) => 1,
         }
     }
-    fn index(&self) -> u32 {
+    pub(super) fn index(&self) -> u32 {
         match self.var {
             Var::Free(i) | Var::OnSide(i) => i,
             Var::Fixed => NONE,
         }
     }
-    fn transformed(&self, a: &Affine) -> Expr {
+    pub(super) fn transformed(&self, a: &Affine) -> Expr {
         let l = &a.m;
         let m = std::array::from_fn(|r| std::array::from_fn(|c| l[r][0] * self.m[0][c] + l[r][1] * self.m[1][c]));
         Expr { var: self.var, m, b: a.apply(self.b) }
     }
-    fn eval(&self, z: &[f64]) -> [f64; 2] {
+    pub(super) fn eval(&self, z: &[f64]) -> [f64; 2] {
         let zi = |k: usize| z[self.index() as usize + k];
         match self.var {
             Var::Fixed => self.b,
@@ -153,6 +156,42 @@ impl Expr {
             Var::OnSide(_) => std::array::from_fn(|r| self.m[r][0] * zi(0) + self.b[r]),
         }
     }
+}
+
+/// The unknowns of every vertex of the refined mesh and their count: nodes fixed, vertices
+/// of aligned curves (and, with `anchor` > 0, that share of every other curve's vertices at
+/// each end) one unknown along their chart side, every other vertex two in its face's chart.
+pub(super) fn unknowns(cut: &CutMesh, aligned: &[bool], anchor: f64) -> (Vec<Var>, usize) {
+    let mut anchored = vec![false; cut.positions.len()];
+    for verts in &cut.curve_vertices {
+        let k = (verts.len() as f64 * anchor).ceil() as usize;
+        for &v in verts.iter().take(k).chain(verts.iter().rev().take(k)) {
+            anchored[v as usize] = true;
+        }
+    }
+    let mut used = vec![false; cut.positions.len()];
+    for t in &cut.triangles {
+        for &v in t {
+            used[v as usize] = true;
+        }
+    }
+    let mut n = 0u32;
+    let vars = (0..cut.positions.len())
+        .map(|v| {
+            if cut.vertex_node[v] != NONE || !used[v] || cut.vertex_face[v] == NONE {
+                return Var::Fixed;
+            }
+            let c = cut.vertex_curve[v];
+            if c != NONE && (aligned.get(c as usize).copied().unwrap_or(false) || anchored[v]) {
+                n += 1;
+                Var::OnSide(n - 1)
+            } else {
+                n += 2;
+                Var::Free(n - 2)
+            }
+        })
+        .collect();
+    (vars, n as usize)
 }
 
 /// Half the cotangent of each triangle corner: the Dirichlet energy of a linear map on a
@@ -200,36 +239,38 @@ pub struct Solution {
 
 impl System {
     /// Unknowns for the refined mesh with `aligned[c]` telling which curves are aligned.
-    pub fn new(cut: &CutMesh, aligned: &[bool]) -> System {
-        let mut used = vec![false; cut.positions.len()];
-        for t in &cut.triangles {
-            for &v in t {
-                used[v as usize] = true;
-            }
-        }
-        let mut n = 0u32;
-        let vars = (0..cut.positions.len())
-            .map(|v| {
-                if cut.vertex_node[v] != NONE || !used[v] || cut.vertex_face[v] == NONE {
-                    return Var::Fixed;
-                }
-                let c = cut.vertex_curve[v];
-                if c != NONE && aligned[c as usize] {
-                    n += 1;
-                    Var::OnSide(n - 1)
-                } else {
-                    n += 2;
-                    Var::Free(n - 2)
-                }
-            })
-            .collect();
+    ///
+    /// `anchor` (0 to 1/2) keeps that share of the vertices at each end of a curve that is
+    /// not aligned on the chart side, so the curve leaves its node in the side's direction
+    /// (see `ParamSession::finish`: released curves can fold thin corner sectors).
+    pub fn new(cut: &CutMesh, aligned: &[bool], anchor: f64) -> System {
+        let (vars, n) = unknowns(cut, aligned, anchor);
         System {
             vars,
-            n_unknowns: n as usize,
+            n_unknowns: n,
             solver: None,
             entries: Vec::new(),
             times: StageTimes::default(),
         }
+    }
+
+    /// For every unknown, a number for its vertex: the fill-reducing ordering is computed
+    /// on the graph of vertices (see [`SpdSolver::with_groups`]).
+    fn vertex_groups(&self) -> Vec<u32> {
+        let mut group = vec![0u32; self.n_unknowns];
+        let mut next = 0u32;
+        for var in &self.vars {
+            let (first, dims) = match *var {
+                Var::Fixed => continue,
+                Var::Free(i) => (i as usize, 2),
+                Var::OnSide(i) => (i as usize, 1),
+            };
+            for g in &mut group[first..first + dims] {
+                *g = next;
+            }
+            next += 1;
+        }
+        group
     }
 
     pub fn n_unknowns(&self) -> usize {
@@ -335,7 +376,7 @@ impl System {
         let t1 = now();
         self.times.assembly += t1 - t0;
         if record_pattern && self.n_unknowns > 0 {
-            self.solver = Some(SpdSolver::new(self.n_unknowns, &entries)?);
+            self.solver = Some(SpdSolver::with_groups(self.n_unknowns, &entries, &self.vertex_groups())?);
             self.entries = entries;
         }
         let t2 = now();
