@@ -20,8 +20,8 @@ execFileSync('cargo', ['run', '--quiet', '--release', '--example', 'bench', '--'
 const paths = MESHES.map((m) => (m.endsWith('_x4.obj') ? join(generated, m) : join(root, '..', 'shared', 'meshes', m)));
 // The sample layout timed on each mesh (www/layouts), as in the page's gallery; its nodes are
 // points, so it fits the subdivided bunny too.
-const LAYOUTS = { 'fandisk.obj': 'fandisk-cube', 'mushroom.obj': 'mushroom-t', 'eight.obj': 'eight-rims',
-  'bunny_28k.obj': 'bunny-cube', 'bunny_28k_x4.obj': 'bunny-cube' };
+const LAYOUTS = { 'fandisk.obj': 'fandisk-features', 'mushroom.obj': 'mushroom-t', 'eight.obj': 'eight-rims',
+  'bunny_28k.obj': 'bunny-ears', 'bunny_28k_x4.obj': 'bunny-ears' };
 const layoutPath = (m) => LAYOUTS[m] && join(root, 'www', 'layouts', `${LAYOUTS[m]}.layout.json`);
 
 console.log('bench: native (cargo run --release --example bench)');

@@ -6,21 +6,16 @@
 // crash survived, a node deleted with its edges.
 // Screenshots of each state go to test-output/e2e/editor-*.png.
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
-import { dirname, join } from 'node:path';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
-import { startServer } from '../../scripts/serve.mjs';
+import { outDir, root, startBrowser } from './harness.mjs';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const outDir = join(root, 'test-output', 'e2e');
 const TIMEOUT = 20_000;
 const PAGE = '?mesh=samples/mushroom.obj&view=0.2,0.3,-1';
 
-let browser, server, context, page, baseUrl;
-const problems = [];
+let harness, page, baseUrl, problems;
 
 /** The mushroom's vertices and boundary vertices, read here as the page's core reads them. */
 function mushroom() {
@@ -50,41 +45,16 @@ function mushroom() {
 const M = mushroom();
 
 before(async () => {
-  mkdirSync(outDir, { recursive: true });
-  ({ server, url: baseUrl } = await startServer(0));
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-    headless: true,
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
-  context = await browser.newContext({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1, acceptDownloads: true });
-  page = await context.newPage();
-  page.setDefaultTimeout(TIMEOUT);
-  page.on('pageerror', (err) => problems.push(`page error: ${err.message}`));
-  page.on('console', (msg) => {
-    if (msg.type() === 'error') problems.push(`console error: ${msg.text()}`);
-  });
-  page.on('requestfailed', (req) => problems.push(`request failed: ${req.url()} ${req.failure()?.errorText}`));
-  page.on('response', (res) => {
-    if (res.status() >= 400) problems.push(`HTTP ${res.status()}: ${res.url()}`);
-  });
+  harness = await startBrowser();
+  ({ baseUrl, problems } = harness);
+  page = await harness.newPage({ timeout: TIMEOUT });
 });
 
 after(async () => {
-  await browser?.close();
-  server?.closeAllConnections();
-  await new Promise((ok) => (server ? server.close(ok) : ok()));
+  await harness?.close();
 });
 
-async function waitFor(predicate) {
-  try {
-    await page.waitForFunction(`window.quadlay && (${predicate})(window.quadlay)`);
-  } catch (err) {
-    const q = await page.evaluate(() => ({ state: window.quadlay?.state, error: window.quadlay?.error, editor: window.quadlay?.editor?.error }));
-    throw new Error(`${err.message}\nwindow.quadlay: ${JSON.stringify(q)}\nproblems: ${problems.join('\n')}`);
-  }
-}
+const waitFor = (predicate) => harness.waitFor(page, predicate, { also: (q) => q?.editor?.error });
 
 const editor = (fn, arg) => page.evaluate(([f, a]) => new Function('ed', 'arg', `return (${f})(ed, arg)`)(window.quadlay.editor, a), [fn.toString(), arg]);
 /** Waits until the core has checked the last edit and a frame shows it. */

@@ -4,60 +4,31 @@
 // of a broken one), and logs no errors on the way.
 // Screenshots go to test-output/e2e/.
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
-import { dirname, join } from 'node:path';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
-import { startServer } from '../../scripts/serve.mjs';
+import { outDir, root, startBrowser } from './harness.mjs';
+import { SAMPLES } from '../../www/samples.js';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const outDir = join(root, 'test-output', 'e2e');
 const TIMEOUT = 20_000;
 
-let browser, server, page, baseUrl;
-/** Everything that went wrong in the page: uncaught errors, console errors, failed requests. */
-const problems = [];
+let harness, page, baseUrl, problems;
 
 before(async () => {
-  mkdirSync(outDir, { recursive: true });
-  ({ server, url: baseUrl } = await startServer(0));
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-    headless: true,
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
-  page = await browser.newPage({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1 });
-  page.setDefaultTimeout(TIMEOUT);
-  page.on('pageerror', (err) => problems.push(`page error: ${err.message}`));
-  page.on('console', (msg) => {
-    if (msg.type() === 'error') problems.push(`console error: ${msg.text()}`);
-  });
-  page.on('requestfailed', (req) => problems.push(`request failed: ${req.url()} ${req.failure()?.errorText}`));
-  page.on('response', (res) => {
-    if (res.status() >= 400) problems.push(`HTTP ${res.status()}: ${res.url()}`);
-  });
+  harness = await startBrowser();
+  ({ baseUrl, problems } = harness);
+  page = await harness.newPage({ timeout: TIMEOUT });
 });
 
 after(async () => {
-  await browser?.close();
-  server?.closeAllConnections();
-  await new Promise((ok) => (server ? server.close(ok) : ok()));
+  await harness?.close();
 });
 
 const state = () => page.evaluate(() => window.quadlay?.state);
 
 /** Waits until `predicate(window.quadlay)` holds in the page; says where the page stood if not. */
-async function waitFor(predicate) {
-  try {
-    await page.waitForFunction(`window.quadlay && (${predicate})(window.quadlay)`);
-  } catch (err) {
-    const q = await page.evaluate(() => ({ state: window.quadlay?.state, error: window.quadlay?.error }));
-    throw new Error(`${err.message}\nwindow.quadlay: ${JSON.stringify(q)}\nproblems: ${problems.join('\n')}`);
-  }
-}
+const waitFor = (predicate) => harness.waitFor(page, predicate);
 
 /**
  * Takes a screenshot and measures the viewport canvas on it, leaving out the controls over
@@ -132,9 +103,12 @@ test('the page opens with the fandisk and its sample layout drawn', async (t) =>
   await page.goto(baseUrl);
   await waitFor((q) => (q.state === 'ready' && q.layout) || q.state === 'error');
   const layout = await page.evaluate(() => window.quadlay.layout);
-  assert.equal(layout.faces, 6);
-  assert.equal(layout.edges, 12);
-  assert.equal(await page.locator('#layout-summary dd[data-key="faces"]').textContent(), '6');
+  // The gallery's fandisk layout, as the file in www/layouts says.
+  const sample = SAMPLES.find((s) => s.file === 'fandisk.obj');
+  const doc = JSON.parse(readFileSync(join(root, 'www', sample.layout), 'utf8'));
+  assert.equal(layout.edges, doc.edges.length);
+  assert.ok(layout.faces >= 6, `${layout.faces} faces`);
+  assert.equal(await page.locator('#layout-summary dd[data-key="faces"]').textContent(), String(layout.faces));
   assert.equal(await state(), 'ready', await page.evaluate(() => window.quadlay.error));
   const summary = await page.evaluate(() => window.quadlay.summary);
   assert.equal(summary.vertices, 6475);

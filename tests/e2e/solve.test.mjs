@@ -7,60 +7,32 @@
 // during the solve of bunny_28k no task on the page's thread takes 100 ms or more.
 // Screenshots go to test-output/e2e/ (solve-*.png).
 import assert from 'node:assert/strict';
-import { mkdirSync, readFileSync } from 'node:fs';
-import { dirname, join } from 'node:path';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
 import { after, before, test } from 'node:test';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
-import { startServer } from '../../scripts/serve.mjs';
+import { outDir, root, startBrowser } from './harness.mjs';
 import { STOPS } from '../../www/heatmap.js';
 import { SAMPLES } from '../../www/samples.js';
 
-const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
-const outDir = join(root, 'test-output', 'e2e');
 const TIMEOUT = 30_000;
 /** The bunny's solve and extraction, in wasm on a shared 2-core machine. */
 const BUNNY_TIMEOUT = 180_000;
 
-let browser, server, baseUrl;
-/** Everything that went wrong in the pages: uncaught errors, console errors, failed requests. */
-const problems = [];
+let harness, baseUrl, problems;
 
 before(async () => {
-  mkdirSync(outDir, { recursive: true });
-  ({ server, url: baseUrl } = await startServer(0));
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-    headless: true,
-    // GL through SwiftShader in the GPU process, composited there, as a browser with a GPU
-    // does. (With --disable-gpu the compositor reads every WebGL frame back on the page's
-    // thread, which blocks it for as long as the software rasterizer takes to draw the frame:
-    // most of a second for the 60k-triangle bunny on this machine, whatever draws it.)
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
+  harness = await startBrowser({ gpu: true });
+  ({ baseUrl, problems } = harness);
 });
 
 after(async () => {
-  await browser?.close();
-  server?.closeAllConnections();
-  await new Promise((ok) => (server ? server.close(ok) : ok()));
+  await harness?.close();
 });
 
 /** A fresh page that reports its problems and counts long tasks from its start. */
 async function newPage() {
-  const context = await browser.newContext({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1, acceptDownloads: true });
-  const page = await context.newPage();
-  page.setDefaultTimeout(TIMEOUT);
-  page.on('pageerror', (err) => problems.push(`page error: ${err.message}`));
-  page.on('console', (msg) => {
-    if (msg.type() === 'error') problems.push(`console error: ${msg.text()}`);
-  });
-  page.on('requestfailed', (req) => problems.push(`request failed: ${req.url()} ${req.failure()?.errorText}`));
-  page.on('response', (res) => {
-    if (res.status() >= 400) problems.push(`HTTP ${res.status()}: ${res.url()}`);
-  });
+  const page = await harness.newPage({ timeout: TIMEOUT });
   await page.addInitScript(() => {
     window.__longtasks = [];
     new PerformanceObserver((list) => {
@@ -71,14 +43,8 @@ async function newPage() {
 }
 
 /** Waits until `predicate(window.quadlay)` holds; says where the page stood if not. */
-async function waitFor(page, predicate, timeout = TIMEOUT) {
-  try {
-    await page.waitForFunction(`window.quadlay && (${predicate})(window.quadlay)`, null, { timeout });
-  } catch (err) {
-    const q = await page.evaluate(() => ({ state: window.quadlay?.state, error: window.quadlay?.error, solve: window.quadlay?.solve }));
-    throw new Error(`${err.message}\nwindow.quadlay: ${JSON.stringify(q)}\nproblems: ${problems.join('\n')}`);
-  }
-}
+const waitFor = (page, predicate, timeout = TIMEOUT) =>
+  harness.waitFor(page, predicate, { timeout, also: (q) => q?.solve });
 
 async function openWithLayout(page, query = '') {
   await page.goto(baseUrl + query);
