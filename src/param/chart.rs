@@ -367,8 +367,9 @@ fn rest_inverse(p: &Mat2) -> Option<Mat2> {
 
 /// Isometric distortion of a triangle, eq. 7: `‖JᵀJ − I‖²_F` with `J = [u1−u0, u2−u0] P⁻¹`
 /// (eq. 8), `u` the parameter positions of its vertices and `rest = P` its rest shape (see
-/// [`ChartTriangle::rest`]). Zero exactly for isometries (rotations, with or without
-/// reflection); `2(σ²−1)²` for a uniform scale by σ.
+/// [`ChartTriangle::rest`]). `J` is the linear part of the map near a point (eq. 5); with its
+/// singular values σ₁, σ₂ (eq. 6) the distortion is (σ₁² − 1)² + (σ₂² − 1)², zero exactly
+/// for isometries (rotations, with or without reflection); `2(σ²−1)²` for a uniform scale by σ.
 ///
 /// Returns `f64::INFINITY` if `P` is singular (degenerate rest triangle): no Jacobian exists.
 pub fn distortion(u: [[f64; 2]; 3], rest: [[f64; 2]; 2]) -> f64 {
