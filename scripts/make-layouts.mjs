@@ -454,7 +454,15 @@ function bunny(s) {
   // The top: a frame of six faces around the two ears' bases, which share the side s1-s2.
   const frame = [[C.tfl, G.bf2], [C.tfr, G.bf1], [M.r, G.s1], [M.l, G.s2], [C.tbr, G.ab1], [C.tbl, G.ab2]];
   for (const [u, v] of frame) b.line(u, v, { align: false });
-  const rings = [[G.bf1, G.s1, G.s2, G.bf2], [G.s1, G.ab1, G.ab2, G.s2]];
+  // With `notch`, the ears' bases do not share a side: the back ear's ring starts at s3, s4 and
+  // a face [s1, s3, s4, s2] fills the notch between the ears; s1 and s2 become T-vertices of the
+  // frame faces beside the notch.
+  const notch = G.s3 !== undefined;
+  const rings = [[G.bf1, G.s1, G.s2, G.bf2], notch ? [G.s3, G.ab1, G.ab2, G.s4] : [G.s1, G.ab1, G.ab2, G.s2]];
+  if (notch) {
+    b.line(G.s1, G.s3, { align: false });
+    b.line(G.s2, G.s4, { align: false });
+  }
   opt.ears.forEach(({ root, tip, ref }, k) => {
     const base = rings[k];
     const top = ring(root, s.nearest(tip), opt.topAt, ref);
@@ -477,12 +485,15 @@ function bunny(s) {
       if (cost < best[0]) best = [cost, shift];
     }
     for (let i = 0; i < 4; i++) {
-      if (!(k === 1 && i === 3)) b.line(base[i], base[(i + 1) % 4], { align: false });
+      if (notch || !(k === 1 && i === 3)) b.line(base[i], base[(i + 1) % 4], { align: false });
       b.line(ids[i], ids[(i + 1) % 4], { align: false });
       b.line(base[i], ids[(i + best[1]) % 4], { align: false });
     }
   });
-  return b.layout();
+  // Chart types: `chart` for every face, `patches` names faces by their corners (counter-clockwise).
+  const named = { ...C, ...M, ...G };
+  for (const [p, q, r, t, chart] of opt.patches) b.patches.push({ corners: [p, q, r, t].map((k) => b.index.get(named[k])), chart });
+  return { ...b.layout(), ...(opt.chart ? { defaults: { chart: opt.chart } } : {}) };
 }
 const BUNNY_OPTIONS = JSON.parse(process.env.BUNNY ?? '{}');
 const BUNNY_DEFAULT = {
@@ -504,8 +515,14 @@ const BUNNY_DEFAULT = {
   ],
   // The ears' bases: s1, s2 in the notch between the ears (shared by both rings), bf in front of
   // the front ear, ab behind the back ear.
+  // s3, s4 on the back ear's front: the notch between the ears is a face of its own (sharing the
+  // side s1-s2 between both ears' tubes folded triangles in the notch's saddle).
   gap: { s1: [-0.56, 0.58, 0.1], s2: [-0.56, 0.58, -0.25], bf1: [-0.82, 0.55, 0.05], bf2: [-0.82, 0.55, -0.3],
-    ab1: [-0.1, 0.58, 0.1], ab2: [-0.1, 0.481, -0.25] },
+    ab1: [-0.1, 0.58, 0.1], ab2: [-0.1, 0.481, -0.25], s3: [-0.47, 0.65, 0.1], s4: [-0.45, 0.45, -0.15] },
+  // Rectangular charts (quad charts shear and fold on the ears and the notch); the front (chest up
+  // to the cheeks) a unit square: as a rectangle its optimization folds a few triangles once.
+  chart: 'rect',
+  patches: [['bfl', 'bfr', 'tfr', 'tfl', 'unit']],
   split: { l: [-0.187, 0.367, -0.35], r: [-0.3, 0.285, 0.75], nl: [-0.1, -1, -0.4], nr: [-0.1, -1, 0.85] },
 };
 
