@@ -30,6 +30,8 @@ fn run(mesh: &Mesh, layout: &SurfaceLayout, formulation: Formulation, iterations
     let t0 = Instant::now();
     let mut options = ParamOptions::default();
     options.formulation = formulation;
+    // The paper's loop as it is: the formulations, not the flip guard, are compared.
+    options.guard_flips = false;
     let mut s = ParamSession::new(mesh, layout, &options)?;
     for _ in 0..iterations {
         s.step()?;

@@ -140,3 +140,34 @@ fn every_sample_gives_a_welded_pure_quad_mesh() {
         println!("{:14} {} grid points outside their charts", "", ex.outside_points);
     }
 }
+
+/// What the gallery's layouts reach where the issue's targets (4° on the fandisk; 1.4 % and
+/// 5° on the bunny) are not met yet; see the closing note of the extraction issue.
+const FANDISK_ANGLE: f64 = 5.0;
+const BUNNY_HAUSDORFF: f64 = 0.019;
+const BUNNY_ANGLE: f64 = 12.0;
+
+/// The issue's reference: fandisk and bunny_28k with the gallery's layouts at about 4,000
+/// quads, against what Instant Meshes reaches on them here (symmetric Hausdorff below 0.9 %
+/// and 1.4 % of the diagonal, corner angles within 4° and 5° on average).
+#[test]
+fn fandisk_and_bunny_at_about_4000_quads() {
+    // (layout, mesh, edge length, Hausdorff bound, angle-deviation bound): the bounds are
+    // the issue's targets where we reach them, else what we reach now (the closing note
+    // says which), so a regression fails.
+    let cases = [
+        ("fandisk-features", "fandisk.obj", 0.024, 0.009, FANDISK_ANGLE),
+        ("bunny-ears", "bunny_28k.obj", 0.0145, BUNNY_HAUSDORFF, BUNNY_ANGLE),
+    ];
+    for (layout_name, mesh_name, h, hausdorff, angle) in cases {
+        let mesh = common::load_mesh(mesh_name);
+        let layout = common::sample_layout(&mesh, layout_name);
+        let s = parameterize(&mesh, &layout, 3);
+        let (quads, _) = extract(&layout, &s, &QuadOptions::with_edge_length(h)).unwrap();
+        let q = measure(&mesh, &quads);
+        print_quality(layout_name, &q, 0.0);
+        assert!((3600..=4400).contains(&q.faces), "{layout_name}: {} quads", q.faces);
+        assert!(q.hausdorff < hausdorff, "{layout_name}: Hausdorff {:.4}", q.hausdorff);
+        assert!(q.angle_deviation_mean_deg < angle, "{layout_name}: angle deviation {:.2}°", q.angle_deviation_mean_deg);
+    }
+}

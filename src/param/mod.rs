@@ -38,11 +38,15 @@ pub struct ParamOptions {
     pub accelerate: bool,
     /// Which global system every solve uses. Default [`Formulation::Symmetric`].
     pub formulation: Formulation,
+    /// Shorten a chart step that flips triangles the previous solve did not (see
+    /// `ParamSession::without_new_flips`). Default true; false runs the paper's loop as it
+    /// is (the formulations are compared that way).
+    pub guard_flips: bool,
 }
 
 impl Default for ParamOptions {
     fn default() -> Self {
-        ParamOptions { iterations: 3, align: true, accelerate: true, formulation: Formulation::Symmetric }
+        ParamOptions { iterations: 3, align: true, accelerate: true, formulation: Formulation::Symmetric, guard_flips: true }
     }
 }
 
@@ -86,6 +90,10 @@ struct FaceDomain {
 /// final solve's successive attempts (see [`ParamSession::finish`]); ½ aligns them all.
 pub const FINAL_ANCHORS: [f64; 3] = [0.1, 0.25, 0.5];
 
+/// Shares of a chart step tried when the full step flips triangles (see
+/// `ParamSession::without_new_flips`).
+pub const STEP_SHARES: [f64; 2] = [0.5, 0.25];
+
 /// The state of a parameterization: refined mesh, charts, factorizations, history.
 pub struct ParamSession {
     cut: CutMesh,
@@ -99,6 +107,7 @@ pub struct ParamSession {
     all_aligned: System,
     user_aligned: System,
     formulation: Formulation,
+    guard_flips: bool,
     /// The curves aligned in the final solve (for [`Formulation::Eq3`], which keeps no state).
     user_tags: Vec<bool>,
     history: Vec<IterationStats>,
@@ -178,6 +187,7 @@ impl ParamSession {
             all_aligned,
             user_aligned,
             formulation: options.formulation,
+            guard_flips: options.guard_flips,
             user_tags,
             history: Vec::new(),
             last: Solution { corner_uv: Vec::new() },
@@ -269,6 +279,7 @@ impl ParamSession {
     /// [`ParamError`] from the solve.
     pub fn step(&mut self) -> Result<IterationStats, ParamError> {
         let t0 = now();
+        let start = self.charts.clone();
         let mut tris: Vec<Vec<ChartTriangle>> = vec![Vec::new(); self.charts.len()];
         for (t, uv) in self.last.corner_uv.iter().enumerate() {
             let f = self.cut.triangle_face[t] as usize;
@@ -336,11 +347,57 @@ impl ParamSession {
                 (sol, d)
             }
         };
+        let (sol, distortion) = self.without_new_flips(&start, sol, distortion)?;
         self.last = sol;
         let stats = IterationStats { iteration: self.history.len(), distortion, seconds: now() - t0 };
         self.history.push(stats);
         self.final_solution = None;
         Ok(stats)
+    }
+
+    /// A chart step that flips triangles the previous solve did not is shortened: the charts
+    /// move only part of the way from `start` ([`STEP_SHARES`]). The isometry energy of
+    /// Section 3.1 is measured on the current parameterization and knows nothing of the
+    /// harmonic solve that follows, so a chart that fits its triangles best can still ask
+    /// the solve to fold triangles near a corner whose chart angle moved far from its
+    /// surface angle. The result with the fewest flips wins, the step's own on a tie.
+    fn without_new_flips(
+        &mut self,
+        start: &[Chart],
+        sol: Solution,
+        d: Distortion,
+    ) -> Result<(Solution, Distortion), ParamError> {
+        let before = self.history.last().map_or(usize::MAX, |h| h.distortion.flipped);
+        if !self.guard_flips || d.flipped <= before {
+            return Ok((sol, d));
+        }
+        let full = self.charts.clone();
+        let mut best = (sol, d, full.clone());
+        for &share in &STEP_SHARES {
+            self.charts = start
+                .iter()
+                .zip(&full)
+                .zip(&self.domains)
+                .map(|((a, b), dom)| {
+                    let (x, y) = (a.with_kind(dom.kind).free_vars(), b.with_kind(dom.kind).free_vars());
+                    let z: Vec<f64> = x.iter().zip(&y).map(|(p, q)| p + share * (q - p)).collect();
+                    b.with_kind(dom.kind).with_free_vars(&z)
+                })
+                .collect();
+            let sol = self.solve(true)?;
+            let d = self.distortion(&sol);
+            if d.flipped < best.1.flipped {
+                best = (sol, d, self.charts.clone());
+            }
+            if best.1.flipped <= before {
+                break;
+            }
+        }
+        self.charts = best.2;
+        if self.charts != full {
+            self.anderson.reset();
+        }
+        Ok((best.0, best.1))
     }
 
     /// The final solve with the user's alignment tags (paper 3.1, step 4).

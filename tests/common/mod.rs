@@ -576,13 +576,15 @@ fn flood_oracle(name: &str, mesh: &Mesh, s: &SurfaceLayout, is_node: &[bool], on
 // The parameterization's and the extraction's fixtures.
 
 /// The sample layouts of the page (www/layouts) and their meshes.
-pub const SAMPLE_LAYOUTS: [(&str, &str); 6] = [
+pub const SAMPLE_LAYOUTS: [(&str, &str); 8] = [
     ("mushroom-4", "mushroom.obj"),
     ("mushroom-grid", "mushroom.obj"),
     ("mushroom-t", "mushroom.obj"),
     ("eight-rims", "eight.obj"),
     ("fandisk-cube", "fandisk.obj"),
+    ("fandisk-features", "fandisk.obj"),
     ("bunny-cube", "bunny_28k.obj"),
+    ("bunny-ears", "bunny_28k.obj"),
 ];
 
 /// Sample layout `name` (www/layouts/NAME.layout.json) placed on `mesh`.
