@@ -415,6 +415,13 @@ impl ParamSession {
     /// # Errors
     /// [`ParamError`] from the solve.
     pub fn finish(&mut self) -> Result<Distortion, ParamError> {
+        if self.user_tags.iter().all(|&t| t) {
+            // Every curve tagged: the final system is the one the last solve used, with the
+            // same charts; its solution stands (no second factorization).
+            let d = self.history.last().map(|h| h.distortion).unwrap_or_else(|| self.distortion(&self.last));
+            self.final_solution = Some((self.last.clone(), d));
+            return Ok(d);
+        }
         let mut sol = self.solve(false)?;
         let mut d = self.distortion(&sol);
         let before = self.history.last().map_or(0, |h| h.distortion.flipped);
