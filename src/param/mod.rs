@@ -87,8 +87,9 @@ struct FaceDomain {
 }
 
 /// Shares of each untagged curve's vertices, at each end, kept on the chart side in the
-/// final solve's successive attempts (see [`ParamSession::finish`]); ½ aligns them all.
-pub const FINAL_ANCHORS: [f64; 3] = [0.1, 0.25, 0.5];
+/// final solve's successive attempts (see [`ParamSession::finish`]); after them, every
+/// curve aligned.
+pub const FINAL_ANCHORS: [f64; 2] = [0.1, 0.25];
 
 /// Shares of a chart step tried when the full step flips triangles (see
 /// `ParamSession::without_new_flips`).
@@ -408,7 +409,7 @@ impl ParamSession {
     /// angles (mushroom-t folded 10 triangles, eight-rims 2). When the released solve flips
     /// more triangles than the all-aligned one before it, the curves' ends are kept on their
     /// sides over a growing share of their vertices ([`FINAL_ANCHORS`]) until it does not; the
-    /// last step aligns every curve, which is the all-aligned solve itself. So the final
+    /// last resort aligns every curve, which is the all-aligned solve itself (reused). So the final
     /// solve never flips more than the optimization phase, and keeps the user's freedom
     /// wherever it can.
     ///
@@ -435,6 +436,11 @@ impl ParamSession {
                 self.user_aligned = system;
                 sol = self.solve(false)?;
                 d = self.distortion(&sol);
+            }
+            if d.flipped > before {
+                // Every curve aligned: the last solve of the loop, already at hand.
+                sol = self.last.clone();
+                d = self.history.last().map(|h| h.distortion).unwrap_or_else(|| self.distortion(&sol));
             }
         }
         self.final_solution = Some((sol, d));
