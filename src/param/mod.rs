@@ -419,8 +419,8 @@ impl ParamSession {
         if self.user_tags.iter().all(|&t| t) {
             // Every curve tagged: the final system is the one the last solve used, with the
             // same charts; its solution stands (no second factorization).
-            let d = self.history.last().map(|h| h.distortion).unwrap_or_else(|| self.distortion(&self.last));
-            self.final_solution = Some((self.last.clone(), d));
+            let (sol, d) = self.all_aligned_result();
+            self.final_solution = Some((sol, d));
             return Ok(d);
         }
         let mut sol = self.solve(false)?;
@@ -438,13 +438,17 @@ impl ParamSession {
                 d = self.distortion(&sol);
             }
             if d.flipped > before {
-                // Every curve aligned: the last solve of the loop, already at hand.
-                sol = self.last.clone();
-                d = self.history.last().map(|h| h.distortion).unwrap_or_else(|| self.distortion(&sol));
+                (sol, d) = self.all_aligned_result();
             }
         }
         self.final_solution = Some((sol, d));
         Ok(d)
+    }
+
+    /// The loop's last solve (every curve aligned) and its distortion: already at hand.
+    fn all_aligned_result(&self) -> (Solution, Distortion) {
+        let d = self.history.last().map(|h| h.distortion).unwrap_or_else(|| self.distortion(&self.last));
+        (self.last.clone(), d)
     }
 
     /// Every node's position in the chart of each face it is on: `[face][&node]`.

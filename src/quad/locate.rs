@@ -45,18 +45,20 @@ fn clamp(bary: [f64; 3]) -> [f64; 3] {
     }
 }
 
+/// The point of the segment `a b` nearest to `p` in the plane.
+pub fn closest_on_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len2 = d[0] * d[0] + d[1] * d[1];
+    let s = if len2 > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    [a[0] + s * d[0], a[1] + s * d[1]]
+}
+
 /// The point of the triangle nearest to `p` in the plane (`p` itself inside).
 fn closest(t: &[[f64; 2]; 3], p: [f64; 2]) -> [f64; 2] {
     if barycentric(t, p).is_some_and(|b| b.iter().all(|&x| x >= 0.0)) {
         return p;
     }
-    let on_side = |k: usize| {
-        let (a, b) = (t[k], t[(k + 1) % 3]);
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let len2 = d[0] * d[0] + d[1] * d[1];
-        let s = if len2 > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
-        [a[0] + s * d[0], a[1] + s * d[1]]
-    };
+    let on_side = |k: usize| closest_on_segment(p, t[k], t[(k + 1) % 3]);
     let d2 = |q: [f64; 2]| (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
     (0..3).map(on_side).min_by(|a, b| d2(*a).total_cmp(&d2(*b))).unwrap_or(p)
 }

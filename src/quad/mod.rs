@@ -13,7 +13,7 @@ use crate::mesh::{Mesh, NONE};
 use crate::param::transition::Affine;
 use crate::param::ParamSession;
 use counts::{sample_counts, CountError, Equation};
-use locate::{ChartIndex, Hit};
+use locate::{closest_on_segment, ChartIndex, Hit};
 use std::fmt;
 
 /// A pure quad mesh, welded: samples on layout edges and nodes are shared by the faces on
@@ -137,12 +137,13 @@ impl BackMap<'_> {
     /// The surface point at chart point `p` of `face`. Where the face's triangles do not
     /// cover `p` (next to a side that is not aligned, the side is straight in the chart but
     /// the curve is not) the point lies in a neighbour's triangles: `near` lists the face's
-    /// pieces by distance from `p`, and we look across them through their transitions.
-    fn surface_point(&mut self, face: u32, p: [f64; 2], near: &[u32]) -> [f64; 3] {
+    /// pieces by distance from `p` (asked for only then), and we look across them through
+    /// their transitions.
+    fn surface_point(&mut self, face: u32, p: [f64; 2], near: impl FnOnce() -> Vec<u32>) -> [f64; 3] {
         if let Some(hit) = self.index[face as usize].locate(p, ON_SIDE) {
             return self.position(hit);
         }
-        for &c in near {
+        for c in near() {
             let [l, r] = self.sides[c as usize];
             let (other, map) = if l == face { (r, Some(self.transitions[c as usize])) } else { (l, self.transitions[c as usize].inverse()) };
             let (Some(map), true) = (map, other != NONE) else { continue };
@@ -156,14 +157,6 @@ impl BackMap<'_> {
             None => [f64::NAN; 3],
         }
     }
-}
-
-/// Distance from `p` to the segment `a b` in the plane.
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let s = if len2 > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0) } else { 0.0 };
-    ((a[0] + s * d[0] - p[0]).powi(2) + (a[1] + s * d[1] - p[1]).powi(2)).sqrt()
 }
 
 /// The point where line `a b` meets line `c d` (grid lines of a convex chart always meet).
@@ -244,6 +237,10 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     };
     let node_at = |f: usize, n: u32| nodes[f].get(&n).copied().unwrap_or([f64::NAN; 2]);
     let pieces_by_distance = |f: usize, p: [f64; 2]| -> Vec<u32> {
+        let distance = |a, b| {
+            let q = closest_on_segment(p, a, b);
+            (q[0] - p[0]).hypot(q[1] - p[1])
+        };
         let face = &layout.faces[f];
         let mut by: Vec<(f64, u32)> = face
             .pieces
@@ -251,7 +248,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
             .enumerate()
             .map(|(k, d)| {
                 let (a, b) = (node_at(f, face.nodes[k]), node_at(f, face.nodes[(k + 1) % face.nodes.len()]));
-                (segment_distance(p, a, b), d.curve)
+                (distance(a, b), d.curve)
             })
             .collect();
         by.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -280,8 +277,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
         for j in 1..k {
             let s = j as f64 / k as f64;
             let p = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])];
-            let near = pieces_by_distance(f, p);
-            mesh.positions.push(map.surface_point(f as u32, p, &near));
+            mesh.positions.push(map.surface_point(f as u32, p, || pieces_by_distance(f, p)));
             mesh.vertex_node.push(NONE);
         }
     }
@@ -322,8 +318,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
         for j in 1..m {
             for i in 1..n {
                 let p = intersect(sides[0][i].1, sides[2][n - i].1, sides[3][m - j].1, sides[1][j].1);
-                let near = pieces_by_distance(f, p);
-                mesh.positions.push(map.surface_point(f as u32, p, &near));
+                mesh.positions.push(map.surface_point(f as u32, p, || pieces_by_distance(f, p)));
                 mesh.vertex_node.push(NONE);
             }
         }
