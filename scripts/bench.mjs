@@ -56,6 +56,8 @@ const wasm = MESHES.map((mesh, i) => {
     for (let k = 0; k < 3; k++) s.stepParam();
     s.finishParam();
     row.param_total_ms = Number((performance.now() - t0).toFixed(1));
+    row.param_stages_ms = Object.fromEntries(Object.entries(s.paramStages())
+      .map(([stage, seconds]) => [stage, Number((seconds * 1000).toFixed(1))]));
     const t1 = performance.now();
     const report = s.remesh({});
     row.mesh_and_quality_ms = Number((performance.now() - t1).toFixed(1));

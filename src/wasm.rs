@@ -355,6 +355,13 @@ impl Session {
         }
     }
 
+    /// Seconds per stage of the current parameterization's solves so far: `{ assembly,
+    /// symbolic, factor, solve, chart_optimization }` (for benchmarks).
+    #[wasm_bindgen(js_name = paramStages)]
+    pub fn param_stages(&self) -> Result<JsValue, JsError> {
+        to_js(&self.param_ref()?.stage_times())
+    }
+
     /// Seconds spent reading the mesh and placing the current layout: `{ load, layout }`.
     pub fn seconds(&self) -> Result<JsValue, JsError> {
         #[derive(Serialize)]

@@ -11,7 +11,7 @@ use common::layout_json;
 use quadlay::layout::{build_layout, parse_layout, SurfaceLayout};
 use quadlay::mesh::primitives::quad_grid;
 use quadlay::mesh::Mesh;
-use quadlay::param::chart::{distortion, rest_frame};
+use quadlay::param::chart::{distortion, folded, rest_frame};
 use quadlay::param::cut::curve_sides;
 use quadlay::param::eq3::solve_eq3;
 use quadlay::param::system::{cotangent_halves, Solution};
@@ -50,8 +50,7 @@ fn measure(session: &ParamSession, sol: &Solution) -> Distortion {
             let p = cut.triangles[t].map(|v| cut.positions[v as usize]);
             rest_frame(p[0], p[1], p[2])
         };
-        let signed = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[1][1] - uv[0][1]) * (uv[2][0] - uv[0][0]);
-        if signed <= 0.0 {
+        if folded(*uv) {
             flipped += 1;
         }
         if area > 0.0 {

@@ -365,6 +365,16 @@ fn rest_inverse(p: &Mat2) -> Option<Mat2> {
     Some([[p[1][1] / det, -p[0][1] / det], [-p[1][0] / det, p[0][0] / det]])
 }
 
+/// Whether a triangle's image `u` is flipped or collapsed: its signed area is negative or, up
+/// to rounding, zero (the sine of its angle at `u[0]` below 1e-12). A triangle whose three
+/// vertices lie on one chart side (eight.obj has two, at a T-vertex) collapses exactly, and
+/// the sign of its rounded area would otherwise be noise.
+pub fn folded(u: [[f64; 2]; 3]) -> bool {
+    let (a, b) = ([u[1][0] - u[0][0], u[1][1] - u[0][1]], [u[2][0] - u[0][0], u[2][1] - u[0][1]]);
+    let signed = a[0] * b[1] - a[1] * b[0];
+    signed <= 1e-12 * a[0].hypot(a[1]) * b[0].hypot(b[1])
+}
+
 /// Isometric distortion of a triangle, eq. 7: `‖JᵀJ − I‖²_F` with `J = [u1−u0, u2−u0] P⁻¹`
 /// (eq. 8), `u` the parameter positions of its vertices and `rest = P` its rest shape (see
 /// [`ChartTriangle::rest`]). `J` is the linear part of the map near a point (eq. 5); with its

@@ -105,8 +105,11 @@ pub struct ParamSession {
     rest: Vec<([[f64; 2]; 2], f64)>,
     /// Half cotangents of every refined triangle's corners, shared by both systems.
     weights: Vec<[f64; 3]>,
+    /// The systems of the loop (every curve aligned) and of the final solve (the user's tags).
     all_aligned: System,
     user_aligned: System,
+    /// Vertices of untagged curves held on their chart sides in the final solve (anchors).
+    user_held: Vec<bool>,
     formulation: Formulation,
     guard_flips: bool,
     /// The curves aligned in the final solve (for [`Formulation::Eq3`], which keeps no state).
@@ -174,8 +177,10 @@ impl ParamSession {
             .zip(&sides)
             .map(|(c, s)| if options.align { c.align } else { s[1] == NONE })
             .collect();
-        let all_aligned = System::new(&cut, &every, 0.0);
-        let user_aligned = System::new(&cut, &tags, 0.0);
+        let general: Vec<bool> = domains.iter().map(|d| d.kind == ChartKind::Quad).collect();
+        let all_aligned = System::new(&cut, general.clone(), &every);
+        let user_aligned = System::new(&cut, general, &tags);
+        let user_held = system::held_on_side(&cut, &tags, 0.0);
         let user_tags = tags;
         let weights = system::cotangent_halves(&cut);
         let mut session = ParamSession {
@@ -187,6 +192,7 @@ impl ParamSession {
             weights,
             all_aligned,
             user_aligned,
+            user_held,
             formulation: options.formulation,
             guard_flips: options.guard_flips,
             user_tags,
@@ -252,15 +258,15 @@ impl ParamSession {
             };
             return eq3::solve_eq3(&self.cut, aligned, &nodes, &self.sides, &transitions, &self.weights);
         }
-        let system = if all { &mut self.all_aligned } else { &mut self.user_aligned };
-        system.solve(&self.cut, &nodes, &self.sides, &transitions, &self.weights)
+        let (system, held) =
+            if all { (&mut self.all_aligned, &[][..]) } else { (&mut self.user_aligned, &self.user_held[..]) };
+        system.solve(&self.cut, &nodes, &self.sides, &transitions, &self.weights, held)
     }
 
     fn distortion(&self, sol: &Solution) -> Distortion {
         let (mut sum, mut area_sum, mut max, mut flipped) = (0.0, 0.0, 0.0f64, 0);
         for (uv, &(rest, area)) in sol.corner_uv.iter().zip(&self.rest) {
-            let signed = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[1][1] - uv[0][1]) * (uv[2][0] - uv[0][0]);
-            if signed <= 0.0 {
+            if chart::folded(*uv) {
                 flipped += 1;
             }
             if area > 0.0 {
@@ -406,10 +412,11 @@ impl ParamSession {
     /// Releasing the untagged curves can fold triangles next to nodes: on coarse meshes a
     /// corner sector of a face may be one triangle wide, and the harmonic map alone does not
     /// keep the curves' order around a node whose chart angles differ much from its surface
-    /// angles (mushroom-t folded 10 triangles, eight-rims 2). When the released solve flips
+    /// angles (mushroom-t folded 10 triangles, then 4 and 0 with anchors; eight-rims 2). When the released solve flips
     /// more triangles than the all-aligned one before it, the curves' ends are kept on their
-    /// sides over a growing share of their vertices ([`FINAL_ANCHORS`]) until it does not; the
-    /// last resort aligns every curve, which is the all-aligned solve itself (reused). So the final
+    /// sides over a growing share of their vertices ([`FINAL_ANCHORS`]) until it does not, or
+    /// until a larger share stops lowering the count (then more will not help); the last
+    /// resort aligns every curve, which is the all-aligned solve itself (reused). So the final
     /// solve never flips more than the optimization phase, and keeps the user's freedom
     /// wherever it can.
     ///
@@ -423,23 +430,23 @@ impl ParamSession {
             self.final_solution = Some((sol, d));
             return Ok(d);
         }
-        let mut sol = self.solve(false)?;
-        let mut d = self.distortion(&sol);
         let before = self.history.last().map_or(0, |h| h.distortion.flipped);
-        if self.formulation == Formulation::Symmetric {
-            for &anchor in &FINAL_ANCHORS {
-                if d.flipped <= before {
-                    break;
-                }
-                let mut system = System::new(&self.cut, &self.user_tags, anchor);
-                system.times = self.user_aligned.times;
-                self.user_aligned = system;
-                sol = self.solve(false)?;
-                d = self.distortion(&sol);
+        let anchors: &[f64] = if self.formulation == Formulation::Symmetric { &FINAL_ANCHORS } else { &[] };
+        let (mut sol, mut d) = self.all_aligned_result();
+        let mut fewest = usize::MAX;
+        for &anchor in std::iter::once(&0.0).chain(anchors) {
+            self.user_held = system::held_on_side(&self.cut, &self.user_tags, anchor);
+            sol = self.solve(false)?;
+            d = self.distortion(&sol);
+            // Done when it flips no more than the loop; anchoring more is tried only while
+            // anchoring helps (on bunny-ears it folds more: 492, then 711).
+            if d.flipped <= before || d.flipped >= fewest {
+                break;
             }
-            if d.flipped > before {
-                (sol, d) = self.all_aligned_result();
-            }
+            fewest = d.flipped;
+        }
+        if d.flipped > before && !anchors.is_empty() {
+            (sol, d) = self.all_aligned_result();
         }
         self.final_solution = Some((sol, d));
         Ok(d)

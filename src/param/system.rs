@@ -158,31 +158,49 @@ impl Expr {
     }
 }
 
-/// The unknowns of every vertex of the refined mesh and their count: nodes fixed, vertices
-/// of aligned curves (and, with `anchor` > 0, that share of every other curve's vertices at
-/// each end) one unknown along their chart side, every other vertex two in its face's chart.
-pub(super) fn unknowns(cut: &CutMesh, aligned: &[bool], anchor: f64) -> (Vec<Var>, usize) {
-    let mut anchored = vec![false; cut.positions.len()];
-    for verts in &cut.curve_vertices {
-        let k = (verts.len() as f64 * anchor).ceil() as usize;
+/// The vertices held on their chart side in a solve: every vertex of an aligned curve and,
+/// with `anchor` > 0, that share of every other curve's vertices at each end.
+pub fn held_on_side(cut: &CutMesh, aligned: &[bool], anchor: f64) -> Vec<bool> {
+    let mut held = vec![false; cut.positions.len()];
+    for (c, verts) in cut.curve_vertices.iter().enumerate() {
+        let k = if aligned.get(c).copied().unwrap_or(false) {
+            verts.len()
+        } else {
+            (verts.len() as f64 * anchor).ceil() as usize
+        };
         for &v in verts.iter().take(k).chain(verts.iter().rev().take(k)) {
-            anchored[v as usize] = true;
+            held[v as usize] = true;
         }
     }
+    held
+}
+
+/// Whether each vertex is known: a node, or a vertex no triangle uses.
+fn fixed_vertices(cut: &CutMesh) -> Vec<bool> {
     let mut used = vec![false; cut.positions.len()];
     for t in &cut.triangles {
         for &v in t {
             used[v as usize] = true;
         }
     }
+    (0..cut.positions.len())
+        .map(|v| cut.vertex_node[v] != NONE || !used[v] || cut.vertex_face[v] == NONE)
+        .collect()
+}
+
+/// The unknowns of every vertex of the refined mesh and their count, as [`super::eq3`] uses
+/// them: nodes fixed, vertices [`held_on_side`] one unknown along their chart side, every
+/// other vertex two in its face's chart.
+pub(super) fn unknowns(cut: &CutMesh, aligned: &[bool], anchor: f64) -> (Vec<Var>, usize) {
+    let held = held_on_side(cut, aligned, anchor);
     let mut n = 0u32;
-    let vars = (0..cut.positions.len())
-        .map(|v| {
-            if cut.vertex_node[v] != NONE || !used[v] || cut.vertex_face[v] == NONE {
-                return Var::Fixed;
-            }
-            let c = cut.vertex_curve[v];
-            if c != NONE && (aligned.get(c as usize).copied().unwrap_or(false) || anchored[v]) {
+    let vars = fixed_vertices(cut)
+        .iter()
+        .zip(&held)
+        .map(|(&fixed, &held)| {
+            if fixed {
+                Var::Fixed
+            } else if held {
                 n += 1;
                 Var::OnSide(n - 1)
             } else {
@@ -219,14 +237,30 @@ pub struct StageTimes {
     pub chart_optimization: f64,
 }
 
-/// The system for one set of aligned curves: its unknowns and a factorization whose
-/// symbolic part is kept across solves (only the charts, hence the values, change).
+/// The global system for one set of aligned curves: its unknowns, and one sparsity pattern
+/// for all its solves, so the symbolic factorization is computed once (only values change).
+///
+/// A vertex inside a face has two unknowns, (u, v) in the face's chart. A vertex of a curve
+/// has its coordinates along and across its chart side from node p to node q, at
+/// `p + s (q − p) + n (q − p)⊥`: only s if the curve is aligned (eq. 11 held exactly), s and
+/// n otherwise. Holding such a vertex on its side in one solve (anchoring, see
+/// `ParamSession::finish`) is `n = 0`, an identity row in the same pattern.
+///
+/// Inside a chart u and v do not mix; they do through a curve vertex's side direction and
+/// through transitions. Where no general quadrilateral chart is involved, chart sides are
+/// parallel to the axes and transitions turn by multiples of 90°, so they still do not mix:
+/// the pattern leaves out the entries that would couple them. An aligned side then touches
+/// only u or only v, which splits the coupling graph further (bunny-ears, rect and unit
+/// charts with three general ones: 3.4 M values in the factor instead of 5.9 M).
 pub struct System {
+    /// Per vertex: `Free(i)` (unknowns i, i + 1), `OnSide(i)` or `Fixed`.
     vars: Vec<Var>,
     n_unknowns: usize,
+    /// Per face: its chart is a general quadrilateral, whose sides may point anywhere.
+    general: Vec<bool>,
     solver: Option<SpdSolver>,
-    /// Lower-triangle entries in assembly order (fixed by the unknowns and the triangles).
-    entries: Vec<(u32, u32)>,
+    /// Per candidate entry, in assembly order: whether the pattern has it.
+    keep: Vec<bool>,
     pub times: StageTimes,
 }
 
@@ -237,50 +271,82 @@ pub struct Solution {
     pub corner_uv: Vec<[[f64; 2]; 3]>,
 }
 
-impl System {
-    /// Unknowns for the refined mesh with `aligned[c]` telling which curves are aligned.
-    ///
-    /// `anchor` (0 to 1/2) keeps that share of the vertices at each end of a curve that is
-    /// not aligned on the chart side, so the curve leaves its node in the side's direction
-    /// (see `ParamSession::finish`: released curves can fold thin corner sectors).
-    pub fn new(cut: &CutMesh, aligned: &[bool], anchor: f64) -> System {
-        let (vars, n) = unknowns(cut, aligned, anchor);
-        System {
-            vars,
-            n_unknowns: n,
-            solver: None,
-            entries: Vec::new(),
-            times: StageTimes::default(),
-        }
-    }
+/// The direction perpendicular to `d`, turned by +90°.
+fn perp(d: [f64; 2]) -> [f64; 2] {
+    [-d[1], d[0]]
+}
 
-    /// For every unknown, a number for its vertex: the fill-reducing ordering is computed
-    /// on the graph of vertices (see [`SpdSolver::with_groups`]).
-    fn vertex_groups(&self) -> Vec<u32> {
-        let mut group = vec![0u32; self.n_unknowns];
-        let mut next = 0u32;
-        for var in &self.vars {
-            let (first, dims) = match *var {
-                Var::Fixed => continue,
-                Var::Free(i) => (i as usize, 2),
-                Var::OnSide(i) => (i as usize, 1),
-            };
-            for g in &mut group[first..first + dims] {
-                *g = next;
-            }
-            next += 1;
-        }
-        group
+/// Whether columns `x` and `y` of two expressions' matrices can give a nonzero product
+/// when their components along the axes keep being zero or not (axis-parallel sides).
+fn overlaps(x: [f64; 2], y: [f64; 2]) -> bool {
+    let nonzero = |a: [f64; 2], k: usize| a[k].abs() > 1e-12 * a[0].hypot(a[1]);
+    (nonzero(x, 0) && nonzero(y, 0)) || (nonzero(x, 1) && nonzero(y, 1))
+}
+
+impl System {
+    /// The unknowns of the refined mesh with `aligned[c]` telling which curves are aligned;
+    /// `general[f]` tells whether face f's chart is a general quadrilateral.
+    pub fn new(cut: &CutMesh, general: Vec<bool>, aligned: &[bool]) -> System {
+        let (vars, n) = unknowns(cut, aligned, 0.0);
+        System { vars, n_unknowns: n, general, solver: None, keep: Vec::new(), times: StageTimes::default() }
     }
 
     pub fn n_unknowns(&self) -> usize {
         self.n_unknowns
     }
 
-    /// The chart position of vertex `v` of a triangle in face `face`, as an expression.
+    /// Values in the Cholesky factor (0 before the first solve).
+    pub fn factor_nnz(&self) -> usize {
+        self.solver.as_ref().map_or(0, SpdSolver::factor_nnz)
+    }
+
+    /// Every non-fixed vertex in the chart of its own face, as an expression (the n column
+    /// of a vertex held on its side left zero); `None` for fixed vertices.
+    fn own_exprs(
+        &self,
+        cut: &CutMesh,
+        nodes: &NodePositions,
+        sides: &[[u32; 2]],
+        held: &[bool],
+    ) -> Result<Vec<Option<Expr>>, ParamError> {
+        // Per curve: its end nodes in the chart of the face on its left, which owns its
+        // vertices (`cut_mesh`).
+        let ends: Vec<Option<([f64; 2], [f64; 2])>> = cut
+            .curve_vertices
+            .iter()
+            .zip(sides)
+            .map(|(verts, side)| {
+                let (&first, &last) = (verts.first()?, verts.last()?);
+                let chart = nodes.get(side[0] as usize)?;
+                Some((*chart.get(&cut.vertex_node[first as usize])?, *chart.get(&cut.vertex_node[last as usize])?))
+            })
+            .collect();
+        (0..cut.positions.len())
+            .map(|vi| {
+                let var = self.vars[vi];
+                if var == Var::Fixed {
+                    return Ok(None);
+                }
+                let c = cut.vertex_curve[vi];
+                if c == NONE {
+                    return Ok(Some(Expr { var, m: [[1.0, 0.0], [0.0, 1.0]], b: [0.0, 0.0] }));
+                }
+                let Some((p, q)) = ends[c as usize] else {
+                    let first = cut.curve_vertices[c as usize][0];
+                    return Err(ParamError::NodeNotOnFace { node: cut.vertex_node[first as usize], face: cut.vertex_face[vi] });
+                };
+                let d = [q[0] - p[0], q[1] - p[1]];
+                let n = if held.get(vi) == Some(&true) || matches!(var, Var::OnSide(_)) { [0.0, 0.0] } else { perp(d) };
+                Ok(Some(Expr { var, m: [[d[0], n[0]], [d[1], n[1]]], b: p }))
+            })
+            .collect()
+    }
+
+    /// Vertex `v` of a triangle in face `face`, in that face's chart.
     fn expr(
         &self,
         cut: &CutMesh,
+        own: &[Option<Expr>],
         v: u32,
         face: u32,
         nodes: &NodePositions,
@@ -291,38 +357,47 @@ impl System {
         let node = cut.vertex_node[vi];
         if node != NONE {
             let p = nodes[face as usize].get(&node).ok_or(ParamError::NodeNotOnFace { node, face })?;
-            return Ok(Expr { var: Var::Fixed, m: [[0.0; 2]; 2], b: *p });
+            return Ok(Expr::fixed(*p));
         }
-        let own = cut.vertex_face[vi];
-        let var = self.vars[vi];
-        let base = match var {
-            Var::OnSide(_) => {
-                let c = cut.vertex_curve[vi] as usize;
-                let ends = [cut.curve_vertices[c][0], *cut.curve_vertices[c].last().unwrap_or(&v)];
-                let [p, q] = ends.map(|e| nodes[own as usize].get(&cut.vertex_node[e as usize]).copied());
-                let (Some(p), Some(q)) = (p, q) else {
-                    return Err(ParamError::NodeNotOnFace { node: cut.vertex_node[ends[0] as usize], face: own });
-                };
-                Expr { var, m: [[q[0] - p[0], 0.0], [q[1] - p[1], 0.0]], b: p }
-            }
-            _ => Expr { var, m: [[1.0, 0.0], [0.0, 1.0]], b: [0.0, 0.0] },
+        let Some(base) = own[vi] else {
+            return Ok(Expr::fixed([0.0, 0.0]));
         };
-        if own == face {
+        let home = cut.vertex_face[vi];
+        if home == face {
             return Ok(base);
         }
         let c = cut.vertex_curve[vi];
-        if c != NONE && sides[c as usize] == [own, face] {
+        if c != NONE && sides[c as usize] == [home, face] {
             return Ok(base.transformed(&transitions[c as usize]));
         }
         Err(ParamError::NotNeighbours { vertex: v, face })
     }
 
+    /// Whether each vertex of triangle `t`, in the chart of the triangle's face, may turn
+    /// away from the axes: a curve vertex of a general chart, or one brought in through a
+    /// transition that touches a general chart. The others' matrices keep their zeros.
+    fn may_turn(&self, cut: &CutMesh, t: usize) -> [bool; 3] {
+        let general = |f: u32| self.general.get(f as usize).copied().unwrap_or(true);
+        let face = cut.triangle_face[t];
+        cut.triangles[t].map(|v| {
+            let home = cut.vertex_face[v as usize];
+            if home == face {
+                cut.vertex_curve[v as usize] != NONE && general(home)
+            } else {
+                general(home) || general(face)
+            }
+        })
+    }
+
     /// Assembles and solves the system for the given node positions and transitions
     /// (`transitions[c]` maps the chart left of curve c to the chart on its right), with the
-    /// refined mesh's [`cotangent_halves`] as `weights`.
+    /// refined mesh's [`cotangent_halves`] as `weights`, holding the vertices `held` on
+    /// their chart sides (see [`held_on_side`]; aligned curves' always are, and an empty
+    /// `held` holds no others).
     ///
     /// # Errors
     /// [`ParamError`]: a failed factorization, or a mesh too coarse for the layout.
+    #[allow(clippy::too_many_arguments)]
     pub fn solve(
         &mut self,
         cut: &CutMesh,
@@ -330,54 +405,75 @@ impl System {
         sides: &[[u32; 2]],
         transitions: &[Affine],
         weights: &[[f64; 3]],
+        held: &[bool],
     ) -> Result<Solution, ParamError> {
         let t0 = now();
+        let own = self.own_exprs(cut, nodes, sides, held)?;
         let mut exprs = Vec::with_capacity(cut.triangles.len());
         for (t, tri) in cut.triangles.iter().enumerate() {
             let face = cut.triangle_face[t];
-            let e: Result<Vec<Expr>, ParamError> =
-                tri.iter().map(|&v| self.expr(cut, v, face, nodes, sides, transitions)).collect();
-            let e = e?;
-            exprs.push([e[0], e[1], e[2]]);
+            let e = |k: usize| self.expr(cut, &own, tri[k], face, nodes, sides, transitions);
+            exprs.push([e(0)?, e(1)?, e(2)?]);
         }
-        let record_pattern = self.solver.is_none();
+        let record = self.solver.is_none();
         let mut entries: Vec<(u32, u32)> = Vec::new();
-        let mut values: Vec<f64> = Vec::with_capacity(self.entries.len());
+        let mut values: Vec<f64> = Vec::with_capacity(self.keep.len());
         let mut rhs = vec![0.0; self.n_unknowns];
+        let mut candidate = 0;
         for (t, ex) in exprs.iter().enumerate() {
+            let turns = if record { self.may_turn(cut, t) } else { [false; 3] };
             for k in 0..3 {
                 // Edge between corners a and b, opposite corner k.
                 let (a, b) = (&ex[(k + 1) % 3], &ex[(k + 2) % 3]);
+                let general = turns[(k + 1) % 3] || turns[(k + 2) % 3];
                 let w = weights[t][k];
                 let d = [a.b[0] - b.b[0], a.b[1] - b.b[1]];
                 // Term w |M_a z_a − M_b z_b + d|²: gradient rows M_aᵀ(...) and −M_bᵀ(...).
                 for (x, sx) in [(a, 1.0), (b, -1.0)] {
                     for i in 0..x.dims() {
                         let row = x.index() + i as u32;
-                        let mt_d = x.m[0][i] * d[0] + x.m[1][i] * d[1];
-                        rhs[row as usize] -= sx * w * mt_d;
+                        let xi = [x.m[0][i], x.m[1][i]];
+                        rhs[row as usize] -= sx * w * (xi[0] * d[0] + xi[1] * d[1]);
                         for (y, sy) in [(a, 1.0), (b, -1.0)] {
                             for j in 0..y.dims() {
                                 let col = y.index() + j as u32;
                                 if col > row {
                                     continue;
                                 }
-                                let v = sx * sy * w * (x.m[0][i] * y.m[0][j] + x.m[1][i] * y.m[1][j]);
-                                if record_pattern {
-                                    entries.push((row, col));
+                                let yj = [y.m[0][j], y.m[1][j]];
+                                if record {
+                                    // The pattern as if nothing were held: column 1 is
+                                    // column 0 turned by 90° (transitions are similarities).
+                                    let full = |e: &Expr, k: usize| if k == 0 { [e.m[0][0], e.m[1][0]] } else { perp([e.m[0][0], e.m[1][0]]) };
+                                    let keep = general || row == col || overlaps(full(x, i), full(y, j));
+                                    self.keep.push(keep);
+                                    if keep {
+                                        entries.push((row, col));
+                                    }
                                 }
-                                values.push(v);
+                                if self.keep[candidate] {
+                                    values.push(sx * sy * w * (xi[0] * yj[0] + xi[1] * yj[1]));
+                                }
+                                candidate += 1;
                             }
                         }
                     }
                 }
             }
         }
+        // The n unknown of a vertex held on its side: an identity row (its value stays 0).
+        for (vi, var) in self.vars.iter().enumerate() {
+            if let (Var::Free(i), true) = (var, cut.vertex_curve[vi] != NONE) {
+                if record {
+                    entries.push((i + 1, i + 1));
+                }
+                values.push(if held.get(vi) == Some(&true) { 1.0 } else { 0.0 });
+            }
+        }
         let t1 = now();
         self.times.assembly += t1 - t0;
-        if record_pattern && self.n_unknowns > 0 {
-            self.solver = Some(SpdSolver::with_groups(self.n_unknowns, &entries, &self.vertex_groups())?);
-            self.entries = entries;
+        if record && self.n_unknowns > 0 {
+            self.solver = Some(SpdSolver::new(self.n_unknowns, &entries)?);
         }
         let t2 = now();
         self.times.symbolic += t2 - t1;
