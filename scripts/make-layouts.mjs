@@ -381,7 +381,7 @@ function fandisk(s) {
  * body whose top is split across the neck by a belt (down the sides, across the bottom); the top
  * carries a frame of six faces around the two ears' bases, which share their side in the notch
  * between the ears; each ear is a tube of four faces up to a ring at 80 % of its length, closed by
- * a cap. 24 faces, no T-vertices, edges not aligned. Options (BUNNY='{...}' in the environment)
+ * a cap. 25 faces, two T-vertices, every edge aligned. Options (BUNNY='{...}' in the environment)
  * override BUNNY_DEFAULT; `belt` (a fraction) adds a second belt around the body, `noBelt` drops
  * the first; `cubeCorners` takes the corners as bunny-cube does.
  */
@@ -516,7 +516,12 @@ function bunny(s) {
   // Chart types: `chart` for every face, `patches` names faces by their corners (counter-clockwise).
   const named = { ...C, ...M, ...G, ...more };
   for (const [p, q, r, t, chart] of opt.patches) b.patches.push({ corners: [p, q, r, t].map((k) => b.index.get(named[k])), chart });
-  return { ...b.layout(), ...(opt.chart ? { defaults: { chart: opt.chart } } : {}) };
+  // Every edge aligned: released, the untagged curves fold about 500 triangles in the final solve
+  // (unit charts), which then keeps them all aligned anyway (`ParamSession::finish`); tagged, the
+  // file says what the result is, and the final solve is the loop's last (no second system).
+  const layout = b.layout();
+  for (const e of layout.edges) e.align = true;
+  return { ...layout, ...(opt.chart ? { defaults: { chart: opt.chart } } : {}) };
 }
 const BUNNY_OPTIONS = JSON.parse(process.env.BUNNY ?? '{}');
 const BUNNY_DEFAULT = {

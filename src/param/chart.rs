@@ -216,14 +216,14 @@ impl Chart {
             d + norm(sub(self.point(st), u)) / scale
         };
         let mut best: Option<([f64; 2], f64)> = None;
-        let mut consider = |st: [f64; 2]| {
+        let consider = |best: &mut Option<([f64; 2], f64)>, st: [f64; 2]| {
             if !(st[0].is_finite() && st[1].is_finite()) {
                 return;
             }
             let st = self.polish(st, u);
             let sc = score(st);
             if sc.is_finite() && best.is_none_or(|(_, b)| sc < b) {
-                best = Some((st, sc));
+                *best = Some((st, sc));
             }
         };
         for t in ts {
@@ -233,10 +233,13 @@ impl Chart {
             let w = add(e, scale2(t, g));
             let ww = dot(w, w);
             if ww > 0.0 {
-                consider([dot(sub(u, scale2(t, f)), w) / ww, t]);
+                consider(&mut best, [dot(sub(u, scale2(t, f)), w) / ww, t]);
             }
         }
-        consider(self.polish([0.5, 0.5], u));
+        // The safety net is needed only when no root lands in the chart and reproduces `u`.
+        if best.is_none_or(|(_, b)| b > 1e-12) {
+            consider(&mut best, self.polish([0.5, 0.5], u));
+        }
         match best {
             Some((st, _)) => st,
             None => [0.5, 0.5],
@@ -372,7 +375,7 @@ fn rest_inverse(p: &Mat2) -> Option<Mat2> {
 pub fn folded(u: [[f64; 2]; 3]) -> bool {
     let (a, b) = ([u[1][0] - u[0][0], u[1][1] - u[0][1]], [u[2][0] - u[0][0], u[2][1] - u[0][1]]);
     let signed = a[0] * b[1] - a[1] * b[0];
-    signed <= 1e-12 * a[0].hypot(a[1]) * b[0].hypot(b[1])
+    signed <= 0.0 || signed * signed <= 1e-24 * (a[0] * a[0] + a[1] * a[1]) * (b[0] * b[0] + b[1] * b[1])
 }
 
 /// Isometric distortion of a triangle, eq. 7: `‖JᵀJ − I‖²_F` with `J = [u1−u0, u2−u0] P⁻¹`
@@ -744,7 +747,9 @@ fn cross(p: [f64; 2], q: [f64; 2]) -> f64 {
 }
 
 fn norm(p: [f64; 2]) -> f64 {
-    p[0].hypot(p[1])
+    // Not `hypot`: exact to the last bit but several times slower, and chart coordinates are
+    // far from overflow.
+    dot(p, p).sqrt()
 }
 
 fn sub3(p: [f64; 3], q: [f64; 3]) -> [f64; 3] {

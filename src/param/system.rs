@@ -259,9 +259,26 @@ pub struct System {
     /// Per face: its chart is a general quadrilateral, whose sides may point anywhere.
     general: Vec<bool>,
     solver: Option<SpdSolver>,
+    /// The pattern, fixed by the first solve (see [`Pattern`]).
+    pattern: Pattern,
+    pub times: StageTimes,
+}
+
+/// Where each triangle's terms go, fixed by the first solve. A triangle with only interior
+/// vertices (no node, no curve vertex) adds the same values every time (its vertices are
+/// their own unknowns, `m = I`, `b = 0`) and nothing to the right-hand side, so later solves
+/// assemble only the triangles that touch a curve or a node (a tenth of them on bunny-ears).
+#[derive(Default)]
+struct Pattern {
     /// Per candidate entry, in assembly order: whether the pattern has it.
     keep: Vec<bool>,
-    pub times: StageTimes,
+    /// Per triangle (and one past the last): its first candidate, its first value.
+    candidate_start: Vec<u32>,
+    value_start: Vec<u32>,
+    /// The triangles whose values change between solves.
+    varying: Vec<u32>,
+    /// The values of the first solve (the constant triangles' stay).
+    values: Vec<f64>,
 }
 
 /// Per-triangle chart coordinates of a solve, and per-vertex coordinates in their own chart.
@@ -279,8 +296,59 @@ fn perp(d: [f64; 2]) -> [f64; 2] {
 /// Whether columns `x` and `y` of two expressions' matrices can give a nonzero product
 /// when their components along the axes keep being zero or not (axis-parallel sides).
 fn overlaps(x: [f64; 2], y: [f64; 2]) -> bool {
-    let nonzero = |a: [f64; 2], k: usize| a[k].abs() > 1e-12 * a[0].hypot(a[1]);
+    let nonzero = |a: [f64; 2], k: usize| a[k] * a[k] > 1e-24 * (a[0] * a[0] + a[1] * a[1]);
     (nonzero(x, 0) && nonzero(y, 0)) || (nonzero(x, 1) && nonzero(y, 1))
+}
+
+/// Whether each vertex of triangle `t`, in the chart of the triangle's face, may turn
+/// away from the axes: a curve vertex of a general chart, or one brought in through a
+/// transition that touches a general chart. The others' matrices keep their zeros.
+fn may_turn(cut: &CutMesh, general: &[bool], t: usize) -> [bool; 3] {
+let general = |f: u32| general.get(f as usize).copied().unwrap_or(true);
+    let face = cut.triangle_face[t];
+    cut.triangles[t].map(|v| {
+        let home = cut.vertex_face[v as usize];
+        if home == face {
+            cut.vertex_curve[v as usize] != NONE && general(home)
+        } else {
+            general(home) || general(face)
+        }
+    })
+}
+
+/// The terms of triangle `t`'s Dirichlet energy Σ_k w_k |u_a − u_b|² (edge ab opposite
+/// corner k, `u = M z + b`): adds its gradient's constant part to `rhs` and calls
+/// `term(row, col, value, keep)` for every lower-triangle matrix entry, in a fixed order.
+/// With `turns` (see [`may_turn`]) `keep` tells whether the entry belongs in the pattern.
+fn triangle_terms(ex: &[Expr; 3], w: &[f64; 3], turns: Option<[bool; 3]>, rhs: &mut [f64], mut term: impl FnMut(u32, u32, f64, bool)) {
+    for k in 0..3 {
+        let (ia, ib) = ((k + 1) % 3, (k + 2) % 3);
+        let (a, b) = (&ex[ia], &ex[ib]);
+        let general = turns.is_some_and(|t| t[ia] || t[ib]);
+        let d = [a.b[0] - b.b[0], a.b[1] - b.b[1]];
+        // Term w |M_a z_a − M_b z_b + d|²: gradient rows M_aᵀ(...) and −M_bᵀ(...).
+        for (x, sx) in [(a, 1.0), (b, -1.0)] {
+            for i in 0..x.dims() {
+                let row = x.index() + i as u32;
+                let xi = [x.m[0][i], x.m[1][i]];
+                rhs[row as usize] -= sx * w[k] * (xi[0] * d[0] + xi[1] * d[1]);
+                for (y, sy) in [(a, 1.0), (b, -1.0)] {
+                    for j in 0..y.dims() {
+                        let col = y.index() + j as u32;
+                        if col > row {
+                            continue;
+                        }
+                        let yj = [y.m[0][j], y.m[1][j]];
+                        // The pattern as if nothing were held: column 1 is column 0 turned by
+                        // 90° (transitions are similarities).
+                        let full = |e: &Expr, k: usize| if k == 0 { [e.m[0][0], e.m[1][0]] } else { perp([e.m[0][0], e.m[1][0]]) };
+                        let keep = turns.is_some() && (general || row == col || overlaps(full(x, i), full(y, j)));
+                        term(row, col, sx * sy * w[k] * (xi[0] * yj[0] + xi[1] * yj[1]), keep);
+                    }
+                }
+            }
+        }
+    }
 }
 
 impl System {
@@ -288,7 +356,7 @@ impl System {
     /// `general[f]` tells whether face f's chart is a general quadrilateral.
     pub fn new(cut: &CutMesh, general: Vec<bool>, aligned: &[bool]) -> System {
         let (vars, n) = unknowns(cut, aligned, 0.0);
-        System { vars, n_unknowns: n, general, solver: None, keep: Vec::new(), times: StageTimes::default() }
+        System { vars, n_unknowns: n, general, solver: None, pattern: Pattern::default(), times: StageTimes::default() }
     }
 
     pub fn n_unknowns(&self) -> usize {
@@ -373,22 +441,6 @@ impl System {
         Err(ParamError::NotNeighbours { vertex: v, face })
     }
 
-    /// Whether each vertex of triangle `t`, in the chart of the triangle's face, may turn
-    /// away from the axes: a curve vertex of a general chart, or one brought in through a
-    /// transition that touches a general chart. The others' matrices keep their zeros.
-    fn may_turn(&self, cut: &CutMesh, t: usize) -> [bool; 3] {
-        let general = |f: u32| self.general.get(f as usize).copied().unwrap_or(true);
-        let face = cut.triangle_face[t];
-        cut.triangles[t].map(|v| {
-            let home = cut.vertex_face[v as usize];
-            if home == face {
-                cut.vertex_curve[v as usize] != NONE && general(home)
-            } else {
-                general(home) || general(face)
-            }
-        })
-    }
-
     /// Assembles and solves the system for the given node positions and transitions
     /// (`transitions[c]` maps the chart left of curve c to the chart on its right), with the
     /// refined mesh's [`cotangent_halves`] as `weights`, holding the vertices `held` on
@@ -415,51 +467,50 @@ impl System {
             let e = |k: usize| self.expr(cut, &own, tri[k], face, nodes, sides, transitions);
             exprs.push([e(0)?, e(1)?, e(2)?]);
         }
+        let mut rhs = vec![0.0; self.n_unknowns];
         let record = self.solver.is_none();
         let mut entries: Vec<(u32, u32)> = Vec::new();
-        let mut values: Vec<f64> = Vec::with_capacity(self.keep.len());
-        let mut rhs = vec![0.0; self.n_unknowns];
-        let mut candidate = 0;
-        for (t, ex) in exprs.iter().enumerate() {
-            let turns = if record { self.may_turn(cut, t) } else { [false; 3] };
-            for k in 0..3 {
-                // Edge between corners a and b, opposite corner k.
-                let (a, b) = (&ex[(k + 1) % 3], &ex[(k + 2) % 3]);
-                let general = turns[(k + 1) % 3] || turns[(k + 2) % 3];
-                let w = weights[t][k];
-                let d = [a.b[0] - b.b[0], a.b[1] - b.b[1]];
-                // Term w |M_a z_a − M_b z_b + d|²: gradient rows M_aᵀ(...) and −M_bᵀ(...).
-                for (x, sx) in [(a, 1.0), (b, -1.0)] {
-                    for i in 0..x.dims() {
-                        let row = x.index() + i as u32;
-                        let xi = [x.m[0][i], x.m[1][i]];
-                        rhs[row as usize] -= sx * w * (xi[0] * d[0] + xi[1] * d[1]);
-                        for (y, sy) in [(a, 1.0), (b, -1.0)] {
-                            for j in 0..y.dims() {
-                                let col = y.index() + j as u32;
-                                if col > row {
-                                    continue;
-                                }
-                                let yj = [y.m[0][j], y.m[1][j]];
-                                if record {
-                                    // The pattern as if nothing were held: column 1 is
-                                    // column 0 turned by 90° (transitions are similarities).
-                                    let full = |e: &Expr, k: usize| if k == 0 { [e.m[0][0], e.m[1][0]] } else { perp([e.m[0][0], e.m[1][0]]) };
-                                    let keep = general || row == col || overlaps(full(x, i), full(y, j));
-                                    self.keep.push(keep);
-                                    if keep {
-                                        entries.push((row, col));
-                                    }
-                                }
-                                if self.keep[candidate] {
-                                    values.push(sx * sy * w * (xi[0] * yj[0] + xi[1] * yj[1]));
-                                }
-                                candidate += 1;
-                            }
-                        }
-                    }
+        let mut values;
+        if record {
+            let p = &mut self.pattern;
+            values = Vec::new();
+            for (t, ex) in exprs.iter().enumerate() {
+                p.candidate_start.push(p.keep.len() as u32);
+                p.value_start.push(values.len() as u32);
+                let interior = cut.triangles[t].iter().all(|&v| {
+                    let v = v as usize;
+                    matches!(self.vars[v], Var::Free(_)) && cut.vertex_curve[v] == NONE
+                });
+                if !interior {
+                    p.varying.push(t as u32);
                 }
+                let turns = may_turn(cut, &self.general, t);
+                triangle_terms(ex, &weights[t], Some(turns), &mut rhs, |row, col, value, keep| {
+                    p.keep.push(keep);
+                    if keep {
+                        entries.push((row, col));
+                        values.push(value);
+                    }
+                });
             }
+            p.candidate_start.push(p.keep.len() as u32);
+            p.value_start.push(values.len() as u32);
+            p.values = values.clone();
+        } else {
+            let p = &self.pattern;
+            values = p.values.clone();
+            for &t in &p.varying {
+                let t = t as usize;
+                let (mut candidate, mut at) = (p.candidate_start[t] as usize, p.value_start[t] as usize);
+                triangle_terms(&exprs[t], &weights[t], None, &mut rhs, |_, _, value, _| {
+                    if p.keep[candidate] {
+                        values[at] = value;
+                        at += 1;
+                    }
+                    candidate += 1;
+                });
+            }
+            values.truncate(*p.value_start.last().unwrap_or(&0) as usize);
         }
         // The n unknown of a vertex held on its side: an identity row (its value stays 0).
         for (vi, var) in self.vars.iter().enumerate() {

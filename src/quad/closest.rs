@@ -183,6 +183,21 @@ impl TriangleTree {
     /// The triangle nearest to `p` and the closest point on it; `None` for an empty tree or
     /// a non-finite `p`. Among equally near triangles any one may be returned.
     pub fn closest(&self, p: Vec3) -> Option<Hit> {
+        self.search(p, -1.0)
+    }
+
+    /// The squared distance from `p` to the nearest triangle if it is larger than `floor`;
+    /// `None` as soon as a triangle within `floor` is found (or for an empty tree or a
+    /// non-finite `p`). For the Hausdorff distance, a max of min distances: a sample nearer
+    /// than the largest distance found so far cannot raise it, and nearly every sample of a
+    /// close mesh ends its search at the first leaf.
+    pub fn distance_squared_beyond(&self, p: Vec3, floor: f64) -> Option<f64> {
+        self.search(p, floor).map(|hit| hit.distance_squared)
+    }
+
+    /// [`closest`](Self::closest), giving up (`None`) at a triangle within `floor`
+    /// (squared distance; negative: never).
+    fn search(&self, p: Vec3, floor: f64) -> Option<Hit> {
         if self.nodes.is_empty() || !p.iter().all(|x| x.is_finite()) {
             return None;
         }
@@ -208,6 +223,9 @@ impl TriangleTree {
                     let [a, b, c] = self.triangles[i];
                     let q = closest_point_on_triangle(p, a, b, c);
                     let d = distance_squared(p, q);
+                    if d <= floor {
+                        return None;
+                    }
                     if d < best.distance_squared {
                         best = Hit {
                             triangle: self.ids[i],
@@ -390,6 +408,9 @@ mod tests {
                     .map(|t| distance_squared(p, closest_point_on_triangle(p, t[0], t[1], t[2])))
                     .fold(f64::INFINITY, f64::min);
                 assert_eq!(hit.distance_squared, brute);
+                // Beyond a floor: the distance when larger, nothing when within.
+                assert_eq!(tree.distance_squared_beyond(p, 0.5 * brute), Some(brute));
+                assert_eq!(tree.distance_squared_beyond(p, brute), None);
                 let t = triangles[hit.triangle as usize];
                 assert_eq!(hit.point, closest_point_on_triangle(p, t[0], t[1], t[2]));
             }

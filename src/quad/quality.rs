@@ -331,10 +331,10 @@ fn is_flipped(input: &Mesh, tree: &TriangleTree, quad: Option<&[Vec3; 4]>) -> bo
 /// Largest distance from any of `samples` to the triangles of `tree` (0 if none is found).
 fn farthest(tree: &TriangleTree, samples: impl Iterator<Item = Vec3>) -> f64 {
     samples
-        .filter_map(|p| tree.closest(p))
-        .map(|hit| hit.distance_squared)
-        .filter(|d| d.is_finite())
-        .fold(0.0, f64::max)
+        .fold(0.0, |farthest: f64, p| match tree.distance_squared_beyond(p, farthest) {
+            Some(d) if d.is_finite() => farthest.max(d),
+            _ => farthest,
+        })
         .sqrt()
 }
 
