@@ -43,8 +43,6 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
     SymmetricOrdering,
 };
-use faer::perm::PermRef;
-use faer::sparse::linalg::amd;
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -225,62 +223,11 @@ impl SpdSolver {
     /// - [`SolveError::OutOfMemory`] / [`SolveError::IndexOverflow`] if the symbolic factor
     ///   cannot be allocated or indexed.
     pub fn new(n: usize, entries: &[(u32, u32)]) -> Result<SpdSolver, SolveError> {
-        SpdSolver::analyze(n, entries, None)
+        SpdSolver::analyze(n, entries)
     }
 
-    /// Like [`SpdSolver::new`], with the fill-reducing ordering computed on a smaller graph:
-    /// `group[i]` is the group of unknown `i` (for us: the unknowns of one mesh vertex).
-    /// AMD orders the graph of groups and the unknowns of a group stay together. For a
-    /// system of 2×2 blocks this is the ordering of the scalar problem, found on a graph
-    /// with a quarter of the entries, and its fill is no worse than AMD on the unknowns.
-    ///
-    /// # Errors
-    /// As [`SpdSolver::new`]; a `group` of the wrong length is a [`SolveError::BadPattern`].
-    pub fn with_groups(n: usize, entries: &[(u32, u32)], group: &[u32]) -> Result<SpdSolver, SolveError> {
-        if group.len() != n {
-            return Err(SolveError::BadPattern(format!("{} groups given for {n} unknowns", group.len())));
-        }
-        let n_groups = group.iter().map(|&g| g as usize + 1).max().unwrap_or(0);
-        // The graph of groups: one entry per pair of groups that share a matrix entry.
-        let mut pairs: Vec<(u32, u32)> = entries
-            .iter()
-            .filter(|&&(r, c)| (r as usize) < n && (c as usize) < n)
-            .map(|&(r, c)| {
-                let (a, b) = (group[r as usize], group[c as usize]);
-                (a.min(b), a.max(b))
-            })
-            .chain((0..n_groups as u32).map(|g| (g, g)))
-            .collect();
-        pairs.sort_unstable_by_key(|&(a, b)| (b, a));
-        pairs.dedup();
-        let mut col_ptr = vec![0usize; n_groups + 1];
-        for &(_, b) in &pairs {
-            col_ptr[b as usize + 1] += 1;
-        }
-        for j in 0..n_groups {
-            col_ptr[j + 1] += col_ptr[j];
-        }
-        let row_idx: Vec<usize> = pairs.iter().map(|&(a, _)| a as usize).collect();
-        // Upper triangle, sorted and unique per column: what AMD reads (as A + Aᵀ).
-        let graph = SymbolicSparseColMat::new_checked(n_groups, n_groups, col_ptr, None, row_idx);
-        let mut order = vec![0usize; n_groups];
-        let mut order_inv = vec![0usize; n_groups];
-        let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n_groups, pairs.len()))
-            .map_err(|_| SolveError::OutOfMemory)?;
-        amd::order(&mut order, &mut order_inv, graph.as_ref(), amd::Control::default(), MemStack::new(&mut mem))?;
-        // Unknowns by their group's place in the order, then by index.
-        let mut perm: Vec<usize> = (0..n).collect();
-        perm.sort_by_key(|&i| (order_inv[group[i] as usize], i));
-        let mut perm_inv = vec![0usize; n];
-        for (new, &old) in perm.iter().enumerate() {
-            perm_inv[old] = new;
-        }
-        SpdSolver::analyze(n, entries, Some((perm, perm_inv)))
-    }
-
-    /// Builds the pattern and the symbolic factorization, with AMD or the given ordering
-    /// (forward and inverse permutation).
-    fn analyze(n: usize, entries: &[(u32, u32)], ordering: Option<(Vec<usize>, Vec<usize>)>) -> Result<SpdSolver, SolveError> {
+    /// Builds the pattern and the symbolic factorization (AMD ordering).
+    fn analyze(n: usize, entries: &[(u32, u32)]) -> Result<SpdSolver, SolveError> {
         if n > isize::MAX as usize / 2 {
             return Err(SolveError::BadPattern(format!("dimension {n} is too large")));
         }
@@ -346,10 +293,7 @@ impl SpdSolver {
         let symbolic = factorize_symbolic_cholesky(
             pattern.as_ref(),
             Side::Lower,
-            match &ordering {
-                None => SymmetricOrdering::Amd,
-                Some((fwd, inv)) => SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, n)),
-            },
+            SymmetricOrdering::Amd,
             CholeskySymbolicParams::default(),
         )?;
 
@@ -649,42 +593,6 @@ mod tests {
         let mut x = b.clone();
         solver.solve_in_place(&mut x).unwrap();
         assert!(rel_residual(n, &entries, &values, &x, &b) < 1e-12);
-    }
-
-    #[test]
-    fn grouped_ordering_solves_block_systems_with_no_more_fill() {
-        // Two coupled copies of a grid Laplacian: unknowns 2i and 2i + 1 belong to point i.
-        let (m, scalar, values) = grid_laplacian(40, 30, 0.5);
-        let n = 2 * m;
-        let mut entries = Vec::new();
-        let mut block_values = Vec::new();
-        for (&(r, c), &v) in scalar.iter().zip(&values) {
-            // v · [[1, 0.3], [0.3, 1.5]]: the Kronecker product of two SPD matrices.
-            for (a, b, w) in [(0, 0, 1.0), (1, 1, 1.5), (1, 0, 0.3)] {
-                entries.push((2 * r + a, 2 * c + b));
-                block_values.push(v * w);
-            }
-            if r != c {
-                // The (0, 1) coupling of the pair, mirrored into the lower triangle.
-                entries.push((2 * r, 2 * c + 1));
-                block_values.push(0.3 * v);
-            }
-        }
-        let group: Vec<u32> = (0..n as u32).map(|i| i / 2).collect();
-        let x_true = known_solution(n);
-        let b = sym_matvec(n, &entries, &block_values, &x_true);
-        let mut fill = Vec::new();
-        for grouped in [false, true] {
-            let mut solver =
-                if grouped { SpdSolver::with_groups(n, &entries, &group) } else { SpdSolver::new(n, &entries) }.unwrap();
-            solver.factor(&block_values).unwrap();
-            let mut x = b.clone();
-            solver.solve_in_place(&mut x).unwrap();
-            assert!(rel_residual(n, &entries, &block_values, &x, &b) < 1e-12, "grouped {grouped}");
-            fill.push(solver.factor_nnz());
-        }
-        assert!(fill[1] as f64 <= 1.05 * fill[0] as f64, "fill {fill:?}");
-        assert!(matches!(SpdSolver::with_groups(n, &entries, &group[1..]), Err(SolveError::BadPattern(_))));
     }
 
     #[test]

@@ -183,21 +183,23 @@ impl TriangleTree {
     /// The triangle nearest to `p` and the closest point on it; `None` for an empty tree or
     /// a non-finite `p`. Among equally near triangles any one may be returned.
     pub fn closest(&self, p: Vec3) -> Option<Hit> {
-        self.search(p, -1.0)
+        self.search(p, -1.0, &mut 0)
     }
 
     /// The squared distance from `p` to the nearest triangle if it is larger than `floor`;
     /// `None` as soon as a triangle within `floor` is found (or for an empty tree or a
     /// non-finite `p`). For the Hausdorff distance, a max of min distances: a sample nearer
-    /// than the largest distance found so far cannot raise it, and nearly every sample of a
-    /// close mesh ends its search at the first leaf.
-    pub fn distance_squared_beyond(&self, p: Vec3, floor: f64) -> Option<f64> {
-        self.search(p, floor).map(|hit| hit.distance_squared)
+    /// than the largest distance found so far cannot raise it. `leaf` carries the leaf
+    /// where the last query ended; it is looked at first, so a run of neighbouring samples
+    /// mostly ends there without descending the tree.
+    pub fn distance_squared_beyond(&self, p: Vec3, floor: f64, leaf: &mut u32) -> Option<f64> {
+        self.search(p, floor, leaf).map(|hit| hit.distance_squared)
     }
 
     /// [`closest`](Self::closest), giving up (`None`) at a triangle within `floor`
-    /// (squared distance; negative: never).
-    fn search(&self, p: Vec3, floor: f64) -> Option<Hit> {
+    /// (squared distance; negative: never), starting with the leaf node `leaf` (if it is one)
+    /// and leaving there the leaf of the answer.
+    fn search(&self, p: Vec3, floor: f64, leaf: &mut u32) -> Option<Hit> {
         if self.nodes.is_empty() || !p.iter().all(|x| x.is_finite()) {
             return None;
         }
@@ -206,6 +208,10 @@ impl TriangleTree {
             point: p,
             distance_squared: f64::INFINITY,
         };
+        let hint = *leaf;
+        if self.nodes.get(hint as usize).is_some_and(|n| n.count > 0) && self.scan(hint, p, floor, &mut best, leaf) {
+            return None;
+        }
         let mut stack = [(0u32, 0.0f64); STACK_SIZE];
         let mut top = 1;
         stack[0] = (0, self.nodes[0].distance_squared(p));
@@ -218,21 +224,8 @@ impl TriangleTree {
             }
             let node = &self.nodes[index as usize];
             if node.count > 0 {
-                let range = node.start as usize..(node.start + node.count) as usize;
-                for i in range {
-                    let [a, b, c] = self.triangles[i];
-                    let q = closest_point_on_triangle(p, a, b, c);
-                    let d = distance_squared(p, q);
-                    if d <= floor {
-                        return None;
-                    }
-                    if d < best.distance_squared {
-                        best = Hit {
-                            triangle: self.ids[i],
-                            point: q,
-                            distance_squared: d,
-                        };
-                    }
+                if index != hint && self.scan(index, p, floor, &mut best, leaf) {
+                    return None;
                 }
                 continue;
             }
@@ -255,6 +248,26 @@ impl TriangleTree {
             }
         }
         best.distance_squared.is_finite().then_some(best)
+    }
+
+    /// Looks at the triangles of leaf `index`: updates `best` (and `leaf`) with a nearer one;
+    /// true when one is within `floor` (the search can stop).
+    fn scan(&self, index: u32, p: Vec3, floor: f64, best: &mut Hit, leaf: &mut u32) -> bool {
+        let node = &self.nodes[index as usize];
+        for i in node.start as usize..(node.start + node.count) as usize {
+            let [a, b, c] = self.triangles[i];
+            let q = closest_point_on_triangle(p, a, b, c);
+            let d = distance_squared(p, q);
+            if d <= floor {
+                *leaf = index;
+                return true;
+            }
+            if d < best.distance_squared {
+                *best = Hit { triangle: self.ids[i], point: q, distance_squared: d };
+                *leaf = index;
+            }
+        }
+        false
     }
 }
 
@@ -408,9 +421,12 @@ mod tests {
                     .map(|t| distance_squared(p, closest_point_on_triangle(p, t[0], t[1], t[2])))
                     .fold(f64::INFINITY, f64::min);
                 assert_eq!(hit.distance_squared, brute);
-                // Beyond a floor: the distance when larger, nothing when within.
-                assert_eq!(tree.distance_squared_beyond(p, 0.5 * brute), Some(brute));
-                assert_eq!(tree.distance_squared_beyond(p, brute), None);
+                // Beyond a floor: the distance when larger, nothing when within, whatever
+                // leaf the search starts with.
+                for mut leaf in [0, 1, 3, u32::MAX] {
+                    assert_eq!(tree.distance_squared_beyond(p, 0.5 * brute, &mut leaf), Some(brute));
+                    assert_eq!(tree.distance_squared_beyond(p, brute, &mut leaf), None);
+                }
                 let t = triangles[hit.triangle as usize];
                 assert_eq!(hit.point, closest_point_on_triangle(p, t[0], t[1], t[2]));
             }

@@ -330,8 +330,9 @@ fn is_flipped(input: &Mesh, tree: &TriangleTree, quad: Option<&[Vec3; 4]>) -> bo
 
 /// Largest distance from any of `samples` to the triangles of `tree` (0 if none is found).
 fn farthest(tree: &TriangleTree, samples: impl Iterator<Item = Vec3>) -> f64 {
+    let mut leaf = 0;
     samples
-        .fold(0.0, |farthest: f64, p| match tree.distance_squared_beyond(p, farthest) {
+        .fold(0.0, |farthest: f64, p| match tree.distance_squared_beyond(p, farthest, &mut leaf) {
             Some(d) if d.is_finite() => farthest.max(d),
             _ => farthest,
         })
