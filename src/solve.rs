@@ -357,6 +357,33 @@ impl SpdSolver {
         for (&pos, &v) in self.scatter.iter().zip(values) {
             self.a_values[pos] += v;
         }
+        self.factor_a_values()
+    }
+
+    /// Where each entry given to [`SpdSolver::new`] goes among the matrix's stored values
+    /// (duplicates share one): callers that re-assemble often can sum into those values
+    /// themselves and call [`SpdSolver::factor_summed`].
+    pub fn slots(&self) -> &[usize] {
+        &self.scatter
+    }
+
+    /// Numeric factorization from the matrix's stored values, summed as [`slots`](Self::slots)
+    /// says (one per distinct position). Errors as [`SpdSolver::factor`], with
+    /// [`SolveError::NonFiniteValue`] naming the stored value.
+    pub fn factor_summed(&mut self, a_values: &[f64]) -> Result<(), SolveError> {
+        if a_values.len() != self.a_values.len() {
+            return Err(SolveError::ValueCountMismatch { expected: self.a_values.len(), got: a_values.len() });
+        }
+        if let Some(entry) = a_values.iter().position(|v| !v.is_finite()) {
+            return Err(SolveError::NonFiniteValue { entry });
+        }
+        self.factored = false;
+        self.a_values.copy_from_slice(a_values);
+        self.factor_a_values()
+    }
+
+    /// Factors the matrix held in `a_values`.
+    fn factor_a_values(&mut self) -> Result<(), SolveError> {
         if self.n == 0 {
             self.factored = true;
             return Ok(());
@@ -593,6 +620,27 @@ mod tests {
         let mut x = b.clone();
         solver.solve_in_place(&mut x).unwrap();
         assert!(rel_residual(n, &entries, &values, &x, &b) < 1e-12);
+    }
+
+    #[test]
+    fn values_summed_by_slot_factor_like_entries() {
+        let (n, entries, values) = grid_laplacian(30, 20, 0.1);
+        // Every entry given twice, halved: duplicates share a slot.
+        let twice: Vec<(u32, u32)> = entries.iter().chain(&entries).copied().collect();
+        let halves: Vec<f64> = values.iter().chain(&values).map(|v| 0.5 * v).collect();
+        let mut solver = SpdSolver::new(n, &twice).unwrap();
+        let mut summed = vec![0.0; solver.slots().iter().max().map_or(0, |&m| m + 1)];
+        for (&slot, &v) in solver.slots().iter().zip(&halves) {
+            summed[slot] += v;
+        }
+        solver.factor_summed(&summed).unwrap();
+        let b = sym_matvec(n, &entries, &values, &known_solution(n));
+        let mut x = b.clone();
+        solver.solve_in_place(&mut x).unwrap();
+        assert!(rel_residual(n, &entries, &values, &x, &b) < 1e-12);
+        assert!(matches!(solver.factor_summed(&summed[1..]), Err(SolveError::ValueCountMismatch { .. })));
+        summed[3] = f64::NAN;
+        assert_eq!(solver.factor_summed(&summed), Err(SolveError::NonFiniteValue { entry: 3 }));
     }
 
     #[test]

@@ -183,6 +183,13 @@ impl Chart {
         if !positive(scale) || !u[0].is_finite() || !u[1].is_finite() {
             return [0.5, 0.5];
         }
+        if g == [0.0, 0.0] {
+            // A parallelogram (every rect and unit chart): eq. 9 is linear, `u = s·c1 + t·c3`.
+            let det = cross(e, f);
+            if det != 0.0 && det.is_finite() {
+                return [cross(u, f) / det, cross(e, u) / det];
+            }
+        }
         let k2 = cross(g, f);
         let k1 = cross(e, f) + cross(u, g);
         let k0 = cross(u, e);

@@ -290,6 +290,9 @@ impl ParamSession {
         let mut tris: Vec<Vec<ChartTriangle>> = vec![Vec::new(); self.charts.len()];
         for (t, uv) in self.last.corner_uv.iter().enumerate() {
             let f = self.cut.triangle_face[t] as usize;
+            if self.domains[f].kind == ChartKind::Unit {
+                continue; // fixed: nothing to optimize
+            }
             let chart = &self.charts[f];
             let st = uv.map(|u| chart.bilinear_coords(u));
             let (rest, area) = self.rest[t];

@@ -267,18 +267,21 @@ pub struct System {
 /// Where each triangle's terms go, fixed by the first solve. A triangle with only interior
 /// vertices (no node, no curve vertex) adds the same values every time (its vertices are
 /// their own unknowns, `m = I`, `b = 0`) and nothing to the right-hand side, so later solves
-/// assemble only the triangles that touch a curve or a node (a tenth of them on bunny-ears).
+/// start from those sums and add only the triangles that touch a curve or a node (a tenth of
+/// them on bunny-ears), straight into the matrix's stored values.
 #[derive(Default)]
 struct Pattern {
     /// Per candidate entry, in assembly order: whether the pattern has it.
     keep: Vec<bool>,
-    /// Per triangle (and one past the last): its first candidate, its first value.
+    /// Per triangle (and one past the last): its first candidate, its first kept entry.
     candidate_start: Vec<u32>,
     value_start: Vec<u32>,
     /// The triangles whose values change between solves.
     varying: Vec<u32>,
-    /// The values of the first solve (the constant triangles' stay).
-    values: Vec<f64>,
+    /// Per kept entry: its place among the matrix's stored values ([`SpdSolver::slots`]).
+    slot: Vec<u32>,
+    /// The stored values summed over the constant triangles.
+    constant: Vec<f64>,
 }
 
 /// Per-triangle chart coordinates of a solve, and per-vertex coordinates in their own chart.
@@ -441,6 +444,122 @@ impl System {
         Err(ParamError::NotNeighbours { vertex: v, face })
     }
 
+    /// The first solve's assembly: every candidate entry, the pattern kept, the symbolic
+    /// and numeric factorization.
+    fn first_solve(
+        &mut self,
+        cut: &CutMesh,
+        exprs: &[[Expr; 3]],
+        weights: &[[f64; 3]],
+        held: &[bool],
+        rhs: &mut [f64],
+        t0: f64,
+    ) -> Result<(), ParamError> {
+        let p = &mut self.pattern;
+        let mut entries: Vec<(u32, u32)> = Vec::new();
+        let mut values = Vec::new();
+        for (t, ex) in exprs.iter().enumerate() {
+            p.candidate_start.push(p.keep.len() as u32);
+            p.value_start.push(values.len() as u32);
+            let interior = cut.triangles[t].iter().all(|&v| {
+                let v = v as usize;
+                matches!(self.vars[v], Var::Free(_)) && cut.vertex_curve[v] == NONE
+            });
+            if !interior {
+                p.varying.push(t as u32);
+            }
+            let turns = may_turn(cut, &self.general, t);
+            triangle_terms(ex, &weights[t], Some(turns), rhs, |row, col, value, keep| {
+                p.keep.push(keep);
+                if keep {
+                    entries.push((row, col));
+                    values.push(value);
+                }
+            });
+        }
+        p.candidate_start.push(p.keep.len() as u32);
+        p.value_start.push(values.len() as u32);
+        for i in self.held_unknowns(cut) {
+            entries.push((i, i));
+        }
+        values.extend(self.held_values(cut, held));
+        let t1 = now();
+        self.times.assembly += t1 - t0;
+        let mut solver = SpdSolver::new(self.n_unknowns, &entries)?;
+        let p = &mut self.pattern;
+        p.slot = solver.slots().iter().map(|&s| s as u32).collect();
+        p.constant = vec![0.0; p.slot.iter().map(|&s| s as usize + 1).max().unwrap_or(0)];
+        let mut varying = p.varying.iter().peekable();
+        for t in 0..exprs.len() {
+            if varying.next_if(|&&v| v as usize == t).is_some() {
+                continue;
+            }
+            for k in p.value_start[t] as usize..p.value_start[t + 1] as usize {
+                p.constant[p.slot[k] as usize] += values[k];
+            }
+        }
+        let t2 = now();
+        self.times.symbolic += t2 - t1;
+        solver.factor(&values)?;
+        self.solver = Some(solver);
+        self.times.factor += now() - t2;
+        Ok(())
+    }
+
+    /// A later solve's assembly: the constant sums plus the varying triangles, then the
+    /// numeric factorization.
+    fn later_solve(
+        &mut self,
+        cut: &CutMesh,
+        exprs: &[[Expr; 3]],
+        weights: &[[f64; 3]],
+        held: &[bool],
+        rhs: &mut [f64],
+        t0: f64,
+    ) -> Result<(), ParamError> {
+        let p = &self.pattern;
+        let mut stored = p.constant.clone();
+        for &t in &p.varying {
+            let t = t as usize;
+            let (mut candidate, mut at) = (p.candidate_start[t] as usize, p.value_start[t] as usize);
+            triangle_terms(&exprs[t], &weights[t], None, rhs, |_, _, value, _| {
+                if p.keep[candidate] {
+                    stored[p.slot[at] as usize] += value;
+                    at += 1;
+                }
+                candidate += 1;
+            });
+        }
+        let first_held = *p.value_start.last().unwrap_or(&0) as usize;
+        for (k, value) in self.held_values(cut, held).enumerate() {
+            stored[p.slot[first_held + k] as usize] += value;
+        }
+        let t1 = now();
+        self.times.assembly += t1 - t0;
+        if let Some(solver) = self.solver.as_mut() {
+            solver.factor_summed(&stored)?;
+        }
+        self.times.factor += now() - t1;
+        Ok(())
+    }
+
+    /// The n unknowns of the curve vertices that have one (those of released curves).
+    fn held_unknowns<'a>(&'a self, cut: &'a CutMesh) -> impl Iterator<Item = u32> + 'a {
+        self.vars.iter().enumerate().filter_map(|(v, var)| match var {
+            Var::Free(i) if cut.vertex_curve[v] != NONE => Some(i + 1),
+            _ => None,
+        })
+    }
+
+    /// The diagonal of each of [`held_unknowns`](Self::held_unknowns): 1 for a vertex held on
+    /// its side (an identity row keeps n = 0), 0 otherwise.
+    fn held_values<'a>(&'a self, cut: &'a CutMesh, held: &'a [bool]) -> impl Iterator<Item = f64> + 'a {
+        self.vars.iter().enumerate().filter_map(move |(v, var)| match var {
+            Var::Free(_) if cut.vertex_curve[v] != NONE => Some(if held.get(v) == Some(&true) { 1.0 } else { 0.0 }),
+            _ => None,
+        })
+    }
+
     /// Assembles and solves the system for the given node positions and transitions
     /// (`transitions[c]` maps the chart left of curve c to the chart on its right), with the
     /// refined mesh's [`cotangent_halves`] as `weights`, holding the vertices `held` on
@@ -468,75 +587,17 @@ impl System {
             exprs.push([e(0)?, e(1)?, e(2)?]);
         }
         let mut rhs = vec![0.0; self.n_unknowns];
-        let record = self.solver.is_none();
-        let mut entries: Vec<(u32, u32)> = Vec::new();
-        let mut values;
-        if record {
-            let p = &mut self.pattern;
-            values = Vec::new();
-            for (t, ex) in exprs.iter().enumerate() {
-                p.candidate_start.push(p.keep.len() as u32);
-                p.value_start.push(values.len() as u32);
-                let interior = cut.triangles[t].iter().all(|&v| {
-                    let v = v as usize;
-                    matches!(self.vars[v], Var::Free(_)) && cut.vertex_curve[v] == NONE
-                });
-                if !interior {
-                    p.varying.push(t as u32);
-                }
-                let turns = may_turn(cut, &self.general, t);
-                triangle_terms(ex, &weights[t], Some(turns), &mut rhs, |row, col, value, keep| {
-                    p.keep.push(keep);
-                    if keep {
-                        entries.push((row, col));
-                        values.push(value);
-                    }
-                });
-            }
-            p.candidate_start.push(p.keep.len() as u32);
-            p.value_start.push(values.len() as u32);
-            p.values = values.clone();
+        if self.solver.is_none() {
+            self.first_solve(cut, &exprs, weights, held, &mut rhs, t0)?;
         } else {
-            let p = &self.pattern;
-            values = p.values.clone();
-            for &t in &p.varying {
-                let t = t as usize;
-                let (mut candidate, mut at) = (p.candidate_start[t] as usize, p.value_start[t] as usize);
-                triangle_terms(&exprs[t], &weights[t], None, &mut rhs, |_, _, value, _| {
-                    if p.keep[candidate] {
-                        values[at] = value;
-                        at += 1;
-                    }
-                    candidate += 1;
-                });
-            }
-            values.truncate(*p.value_start.last().unwrap_or(&0) as usize);
+            self.later_solve(cut, &exprs, weights, held, &mut rhs, t0)?;
         }
-        // The n unknown of a vertex held on its side: an identity row (its value stays 0).
-        for (vi, var) in self.vars.iter().enumerate() {
-            if let (Var::Free(i), true) = (var, cut.vertex_curve[vi] != NONE) {
-                if record {
-                    entries.push((i + 1, i + 1));
-                }
-                values.push(if held.get(vi) == Some(&true) { 1.0 } else { 0.0 });
-            }
-        }
-        let t1 = now();
-        self.times.assembly += t1 - t0;
-        if record && self.n_unknowns > 0 {
-            self.solver = Some(SpdSolver::new(self.n_unknowns, &entries)?);
-        }
-        let t2 = now();
-        self.times.symbolic += t2 - t1;
+        let t3 = now();
         let mut z = rhs;
-        if self.n_unknowns > 0 {
-            let solver = self.solver.as_mut().ok_or(ParamError::Solve(SolveError::NotPositiveDefinite))?;
-            solver.factor(&values)?;
-            let t3 = now();
-            self.times.factor += t3 - t2;
+        if let Some(solver) = self.solver.as_ref() {
             solver.solve_in_place(&mut z)?;
-            self.times.solve += now() - t3;
         }
+        self.times.solve += now() - t3;
         let corner_uv = exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect();
         Ok(Solution { corner_uv })
     }
