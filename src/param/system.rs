@@ -38,9 +38,9 @@
 //! | mushroom-4    |  3  | 1.158 / 0       | 1.158 / 0    | 1.158 / 0        | 1.158 / 0    | 0.10 / 0.35    |
 //! | mushroom-grid |  3  | 0.8956 / 0      | 0.8957 / 0   | 0.8956 / 0       | 0.8957 / 0   | 0.11 / 0.38    |
 //! | mushroom-t    |  3  | 0.6961 / 0      | 0.7031 / 4   | 0.7447 / 10      | 0.7217 / 8   | 0.11 / 0.44    |
-//! | eight-rims    |  3  | 0.2125 / 1      | 0.2148 / 1   | 0.1824 / 2       | 0.1830 / 2   | 0.01 / 0.04    |
-//! | fandisk-cube  |  3  | 0.3098 / 0      | 0.3239 / 7   | 0.3098 / 0       | 0.3239 / 7   | 0.44 / 1.15    |
-//! | bunny-cube    |  3  | 0.5317 / 0      | 0.5288 / 0   | 0.4902 / 0       | 0.4899 / 3   | 1.77 / 7.87    |
+//! | eight-rims    |  3  | 0.2125 / 2      | 0.2148 / 2   | 0.1824 / 2       | 0.1830 / 2   | 0.02 / 0.07    |
+//! | fandisk-cube  |  3  | 0.3098 / 0      | 0.3239 / 7   | 0.3098 / 0       | 0.3239 / 7   | 0.31 / 1.21    |
+//! | bunny-cube    |  3  | 0.5317 / 0      | 0.5288 / 0   | 0.4902 / 0       | 0.4899 / 3   | 1.64 / 8.54    |
 //!
 //! After 20 iterations the known answers are at 1.9e-8 (planar quad, both), 1.6e-13 / 5.2e-14
 //! (2×2) and 8.0e-20 / 1.6e-18 (cube): both formulations reach the isometries, and below 1e-9
@@ -57,7 +57,7 @@
 //!   0.3082, bunny 0.5317 vs 0.5285, eight-rims 0.2125 vs 0.2150): the formulation matters
 //!   less than where the chart loop leads;
 //! - it is symmetric positive definite: Cholesky with the symbolic factorization kept across
-//!   solves, 2–5× faster per run than eq. 3's LU (symbolic analysis redone per solve).
+//!   solves, 3–9× faster per run than eq. 3's LU (symbolic analysis redone per solve).
 //!
 //! The exception is the final solve of mushroom-t, which releases its untagged curves: there
 //! the symmetric map ends 3.2 % above eq. 3, and both fold triangles (10 against 8).
