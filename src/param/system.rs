@@ -284,6 +284,16 @@ struct Pattern {
     constant: Vec<f64>,
 }
 
+/// What one solve assembles: the refined mesh, every triangle's vertices as expressions in
+/// its chart, the cotangent weights, the vertices held on their sides.
+#[derive(Clone, Copy)]
+struct Assembly<'a> {
+    cut: &'a CutMesh,
+    exprs: &'a [[Expr; 3]],
+    weights: &'a [[f64; 3]],
+    held: &'a [bool],
+}
+
 /// Per-triangle chart coordinates of a solve, and per-vertex coordinates in their own chart.
 #[derive(Debug, Clone)]
 pub struct Solution {
@@ -446,15 +456,8 @@ impl System {
 
     /// The first solve's assembly: every candidate entry, the pattern kept, the symbolic
     /// and numeric factorization.
-    fn first_solve(
-        &mut self,
-        cut: &CutMesh,
-        exprs: &[[Expr; 3]],
-        weights: &[[f64; 3]],
-        held: &[bool],
-        rhs: &mut [f64],
-        t0: f64,
-    ) -> Result<(), ParamError> {
+    fn first_solve(&mut self, a: &Assembly, rhs: &mut [f64], t0: f64) -> Result<(), ParamError> {
+        let Assembly { cut, exprs, weights, held } = *a;
         let p = &mut self.pattern;
         let mut entries: Vec<(u32, u32)> = Vec::new();
         let mut values = Vec::new();
@@ -508,15 +511,8 @@ impl System {
 
     /// A later solve's assembly: the constant sums plus the varying triangles, then the
     /// numeric factorization.
-    fn later_solve(
-        &mut self,
-        cut: &CutMesh,
-        exprs: &[[Expr; 3]],
-        weights: &[[f64; 3]],
-        held: &[bool],
-        rhs: &mut [f64],
-        t0: f64,
-    ) -> Result<(), ParamError> {
+    fn later_solve(&mut self, a: &Assembly, rhs: &mut [f64], t0: f64) -> Result<(), ParamError> {
+        let Assembly { cut, exprs, weights, held } = *a;
         let p = &self.pattern;
         let mut stored = p.constant.clone();
         for &t in &p.varying {
@@ -587,10 +583,11 @@ impl System {
             exprs.push([e(0)?, e(1)?, e(2)?]);
         }
         let mut rhs = vec![0.0; self.n_unknowns];
+        let assembly = Assembly { cut, exprs: &exprs, weights, held };
         if self.solver.is_none() {
-            self.first_solve(cut, &exprs, weights, held, &mut rhs, t0)?;
+            self.first_solve(&assembly, &mut rhs, t0)?;
         } else {
-            self.later_solve(cut, &exprs, weights, held, &mut rhs, t0)?;
+            self.later_solve(&assembly, &mut rhs, t0)?;
         }
         let t3 = now();
         let mut z = rhs;
