@@ -424,17 +424,46 @@ pub fn energy(
     x: &[f64; 5],
     tris: &[ChartTriangle],
 ) -> (f64, Vec<f64>, Vec<Vec<f64>>) {
+    energy_of(x, &generators(kind, tris), directions(kind).len())
+}
+
+/// A usable triangle's part of eq. 10 that does not depend on the chart: its weight, the
+/// generators `Gₖ` of its Jacobian (see [`triangle_generators`]) and their combinations
+/// along the free directions of the chart's kind. [`optimize`] computes them once.
+struct Generators {
+    weight: f64,
+    gx: [Mat2; 5],
+    along: [Mat2; 5],
+}
+
+fn generators(kind: ChartKind, tris: &[ChartTriangle]) -> Vec<Generators> {
     let dirs = directions(kind);
-    let n = dirs.len();
+    tris.iter()
+        .filter_map(triangle_generators)
+        .map(|(weight, gx)| {
+            let mut along = [[[0.0; 2]; 2]; 5];
+            for (g, dir) in along.iter_mut().zip(dirs) {
+                for (dk, gk) in dir.iter().zip(&gx) {
+                    if *dk != 0.0 {
+                        *g = add_scaled(g, *dk, gk);
+                    }
+                }
+            }
+            Generators { weight, gx, along }
+        })
+        .collect()
+}
+
+/// [`energy`] from precomputed [`generators`], with `n` free variables.
+fn energy_of(x: &[f64; 5], gens: &[Generators], n: usize) -> (f64, Vec<f64>, Vec<Vec<f64>>) {
     let mut value = 0.0;
     let mut grad = vec![0.0; n];
     let mut hess = vec![vec![0.0; n]; n];
-    let mut gz = [[[0.0; 2]; 2]; 5];
     let mut sz = [[[0.0; 2]; 2]; 5];
-    for tri in tris {
-        let Some((w, gx)) = triangle_generators(tri) else { continue };
+    for Generators { weight: w, gx, along: gz } in gens {
+        let w = *w;
         let mut j = [[0.0; 2]; 2];
-        for (xk, gk) in x.iter().zip(&gx) {
+        for (xk, gk) in x.iter().zip(gx) {
             j = add_scaled(&j, *xk, gk);
         }
         let jt = transpose(&j);
@@ -442,19 +471,12 @@ pub fn energy(
         m[0][0] -= 1.0;
         m[1][1] -= 1.0;
         value += w * frob2(&m);
-        for (k, dir) in dirs.iter().enumerate() {
-            let mut g = [[0.0; 2]; 2];
-            for (dk, gk) in dir.iter().zip(&gx) {
-                if *dk != 0.0 {
-                    g = add_scaled(&g, *dk, gk);
-                }
-            }
-            let gtj = mul(&transpose(&g), &j);
+        for k in 0..n {
+            let gtj = mul(&transpose(&gz[k]), &j);
             sz[k] = [
                 [2.0 * gtj[0][0], gtj[0][1] + gtj[1][0]],
                 [gtj[0][1] + gtj[1][0], 2.0 * gtj[1][1]],
             ];
-            gz[k] = g;
             grad[k] += w * 2.0 * inner(&m, &sz[k]);
         }
         for k in 0..n {
@@ -572,7 +594,9 @@ pub fn optimize(
 ) -> (Chart, OptimizeReport) {
     let kind = chart.kind;
     let start = chart.with_free_vars(&chart.free_vars());
-    let e0 = energy(kind, &start.x, tris).0;
+    let gens = generators(kind, tris);
+    let n = kind.dofs();
+    let e0 = energy_of(&start.x, &gens, n).0;
     let unchanged = |termination| {
         let e = finite_or_inf(e0);
         let report = OptimizeReport {
@@ -587,7 +611,7 @@ pub fn optimize(
     if kind.dofs() == 0 {
         return unchanged(Termination::NothingToOptimize);
     }
-    let total_area: f64 = tris.iter().filter_map(triangle_generators).map(|(w, _)| w).sum();
+    let total_area: f64 = gens.iter().map(|g| g.weight).sum();
     if total_area <= 0.0 {
         return unchanged(Termination::NothingToOptimize);
     }
@@ -597,7 +621,7 @@ pub fn optimize(
 
     let mut z = start.free_vars();
     let mut current = start;
-    let (mut e, mut g, mut h) = energy(kind, &current.x, tris);
+    let (mut e, mut g, mut h) = energy_of(&current.x, &gens, n);
     let rel_grad = |c: &Chart, g: &[f64]| {
         let l = c.x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         g.iter().map(|v| v * v).sum::<f64>().sqrt() * l / total_area
@@ -631,7 +655,7 @@ pub fn optimize(
             let zc: Vec<f64> = z.iter().zip(&p).map(|(zi, pi)| zi + alpha * pi).collect();
             let cand = start.with_free_vars(&zc);
             if cand.is_well_shaped() {
-                let (ec, gc, hc) = energy(kind, &cand.x, tris);
+                let (ec, gc, hc) = energy_of(&cand.x, &gens, n);
                 let gc_norm = gc.iter().map(|v| v * v).sum::<f64>().sqrt();
                 let armijo = ec <= e + 1e-4 * alpha * slope && ec < e;
                 let flat = ec <= e + ENERGY_NOISE * e && gc_norm < g_norm;
