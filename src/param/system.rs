@@ -460,8 +460,14 @@ impl System {
     fn first_solve(&mut self, a: &Assembly, rhs: &mut [f64], t0: f64) -> Result<(), ParamError> {
         let Assembly { cut, exprs, weights, held } = *a;
         let p = &mut self.pattern;
-        let mut entries: Vec<(u32, u32)> = Vec::new();
-        let mut values = Vec::new();
+        // At most 30 candidates per triangle (3 edges, 2 vertices, 2 unknowns each, lower
+        // half); reserved up front, as growing these arrays costs as much as filling them.
+        let n = exprs.len();
+        p.keep.reserve(30 * n);
+        p.candidate_start.reserve(n + 1);
+        p.value_start.reserve(n + 1);
+        let mut entries: Vec<(u32, u32)> = Vec::with_capacity(20 * n);
+        let mut values = Vec::with_capacity(20 * n);
         for (t, ex) in exprs.iter().enumerate() {
             p.candidate_start.push(p.keep.len() as u32);
             p.value_start.push(values.len() as u32);
