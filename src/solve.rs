@@ -223,11 +223,6 @@ impl SpdSolver {
     /// - [`SolveError::OutOfMemory`] / [`SolveError::IndexOverflow`] if the symbolic factor
     ///   cannot be allocated or indexed.
     pub fn new(n: usize, entries: &[(u32, u32)]) -> Result<SpdSolver, SolveError> {
-        SpdSolver::analyze(n, entries)
-    }
-
-    /// Builds the pattern and the symbolic factorization (AMD ordering).
-    fn analyze(n: usize, entries: &[(u32, u32)]) -> Result<SpdSolver, SolveError> {
         if n > isize::MAX as usize / 2 {
             return Err(SolveError::BadPattern(format!("dimension {n} is too large")));
         }

@@ -108,8 +108,6 @@ pub struct ParamSession {
     /// The systems of the loop (every curve aligned) and of the final solve (the user's tags).
     all_aligned: System,
     user_aligned: System,
-    /// Vertices of untagged curves held on their chart sides in the final solve (anchors).
-    user_held: Vec<bool>,
     formulation: Formulation,
     guard_flips: bool,
     /// The curves aligned in the final solve (for [`Formulation::Eq3`], which keeps no state).
@@ -180,7 +178,6 @@ impl ParamSession {
         let general: Vec<bool> = domains.iter().map(|d| d.kind == ChartKind::Quad).collect();
         let all_aligned = System::new(&cut, general.clone(), &every);
         let user_aligned = System::new(&cut, general, &tags);
-        let user_held = system::held_on_side(&cut, &tags, 0.0);
         let user_tags = tags;
         let weights = system::cotangent_halves(&cut);
         let mut session = ParamSession {
@@ -192,7 +189,6 @@ impl ParamSession {
             weights,
             all_aligned,
             user_aligned,
-            user_held,
             formulation: options.formulation,
             guard_flips: options.guard_flips,
             user_tags,
@@ -203,7 +199,7 @@ impl ParamSession {
             accelerate: options.accelerate,
             chart_seconds: 0.0,
         };
-        let sol = session.solve(true)?;
+        let sol = session.solve(None)?;
         let distortion = session.distortion(&sol);
         session.last = sol;
         session.history.push(IterationStats { iteration: 0, distortion, seconds: now() - t0 });
@@ -246,11 +242,13 @@ impl ParamSession {
         (nodes, transitions)
     }
 
-    fn solve(&mut self, all: bool) -> Result<Solution, ParamError> {
+    /// A solve with every curve aligned (`None`, the loop's), or the final one with the
+    /// user's tags and that share of every untagged curve's ends held on its side.
+    fn solve(&mut self, final_anchor: Option<f64>) -> Result<Solution, ParamError> {
         let (nodes, transitions) = self.frames();
         if self.formulation == Formulation::Eq3 {
             let every;
-            let aligned = if all {
+            let aligned = if final_anchor.is_none() {
                 every = vec![true; self.sides.len()];
                 &every
             } else {
@@ -258,9 +256,11 @@ impl ParamSession {
             };
             return eq3::solve_eq3(&self.cut, aligned, &nodes, &self.sides, &transitions, &self.weights);
         }
-        let (system, held) =
-            if all { (&mut self.all_aligned, &[][..]) } else { (&mut self.user_aligned, &self.user_held[..]) };
-        system.solve(&self.cut, &nodes, &self.sides, &transitions, &self.weights, held)
+        let (system, held) = match final_anchor {
+            None => (&mut self.all_aligned, Vec::new()),
+            Some(anchor) => (&mut self.user_aligned, system::held_on_side(&self.cut, &self.user_tags, anchor)),
+        };
+        system.solve(&self.cut, &nodes, &self.sides, &transitions, &self.weights, &held)
     }
 
     fn distortion(&self, sol: &Solution) -> Distortion {
@@ -340,7 +340,7 @@ impl ParamSession {
         let previous = self.history.last().map_or(f64::INFINITY, |h| h.distortion.mean);
         self.charts = accelerated;
         let valid = self.charts.iter().all(|c| c.is_convex() && c.x[0] > 0.0);
-        let accepted = if valid { self.solve(true).ok() } else { None }
+        let accepted = if valid { self.solve(None).ok() } else { None }
             .map(|sol| {
                 let d = self.distortion(&sol);
                 (sol, d)
@@ -352,7 +352,7 @@ impl ParamSession {
                 // Fall back to the paper's plain step.
                 self.anderson.reset();
                 self.charts = fitted;
-                let sol = self.solve(true)?;
+                let sol = self.solve(None)?;
                 let d = self.distortion(&sol);
                 (sol, d)
             }
@@ -394,7 +394,7 @@ impl ParamSession {
                     b.with_kind(dom.kind).with_free_vars(&z)
                 })
                 .collect();
-            let sol = self.solve(true)?;
+            let sol = self.solve(None)?;
             let d = self.distortion(&sol);
             if d.flipped < best.1.flipped {
                 best = (sol, d, self.charts.clone());
@@ -435,18 +435,18 @@ impl ParamSession {
         }
         let before = self.history.last().map_or(0, |h| h.distortion.flipped);
         let anchors: &[f64] = if self.formulation == Formulation::Symmetric { &FINAL_ANCHORS } else { &[] };
-        let (mut sol, mut d) = self.all_aligned_result();
+        let mut sol = self.solve(Some(0.0))?;
+        let mut d = self.distortion(&sol);
         let mut fewest = usize::MAX;
-        for &anchor in std::iter::once(&0.0).chain(anchors) {
-            self.user_held = system::held_on_side(&self.cut, &self.user_tags, anchor);
-            sol = self.solve(false)?;
-            d = self.distortion(&sol);
+        for &anchor in anchors {
             // Done when it flips no more than the loop; anchoring more is tried only while
             // anchoring helps (on bunny-ears it folds more: 492, then 711).
             if d.flipped <= before || d.flipped >= fewest {
                 break;
             }
             fewest = d.flipped;
+            sol = self.solve(Some(anchor))?;
+            d = self.distortion(&sol);
         }
         if d.flipped > before && !anchors.is_empty() {
             (sol, d) = self.all_aligned_result();

@@ -318,7 +318,7 @@ fn overlaps(x: [f64; 2], y: [f64; 2]) -> bool {
 /// away from the axes: a curve vertex of a general chart, or one brought in through a
 /// transition that touches a general chart. The others' matrices keep their zeros.
 fn may_turn(cut: &CutMesh, general: &[bool], t: usize) -> [bool; 3] {
-let general = |f: u32| general.get(f as usize).copied().unwrap_or(true);
+    let general = |f: u32| general.get(f as usize).copied().unwrap_or(true);
     let face = cut.triangle_face[t];
     cut.triangles[t].map(|v| {
         let home = cut.vertex_face[v as usize];
@@ -459,6 +459,8 @@ impl System {
     /// and numeric factorization.
     fn first_solve(&mut self, a: &Assembly, rhs: &mut [f64], t0: f64) -> Result<(), ParamError> {
         let Assembly { cut, exprs, weights, held } = *a;
+        // Afresh: a first solve whose factorization failed left a partial pattern.
+        self.pattern = Pattern::default();
         let p = &mut self.pattern;
         // At most 30 candidates per triangle (3 edges, 2 vertices, 2 unknowns each, lower
         // half); reserved up front, as growing these arrays costs as much as filling them.
@@ -489,7 +491,7 @@ impl System {
         }
         p.candidate_start.push(p.keep.len() as u32);
         p.value_start.push(values.len() as u32);
-        for i in self.held_unknowns(cut) {
+        for (_, i) in self.released(cut) {
             entries.push((i, i));
         }
         values.extend(self.held_values(cut, held));
@@ -546,21 +548,18 @@ impl System {
         Ok(())
     }
 
-    /// The n unknowns of the curve vertices that have one (those of released curves).
-    fn held_unknowns<'a>(&'a self, cut: &'a CutMesh) -> impl Iterator<Item = u32> + 'a {
+    /// The curve vertices with an n unknown (those of released curves), with its index.
+    fn released<'a>(&'a self, cut: &'a CutMesh) -> impl Iterator<Item = (usize, u32)> + 'a {
         self.vars.iter().enumerate().filter_map(|(v, var)| match var {
-            Var::Free(i) if cut.vertex_curve[v] != NONE => Some(i + 1),
+            Var::Free(i) if cut.vertex_curve[v] != NONE => Some((v, i + 1)),
             _ => None,
         })
     }
 
-    /// The diagonal of each of [`held_unknowns`](Self::held_unknowns): 1 for a vertex held on
-    /// its side (an identity row keeps n = 0), 0 otherwise.
+    /// The diagonal of each [`released`](Self::released) vertex's n unknown: 1 for a vertex
+    /// held on its side (an identity row keeps n = 0), 0 otherwise.
     fn held_values<'a>(&'a self, cut: &'a CutMesh, held: &'a [bool]) -> impl Iterator<Item = f64> + 'a {
-        self.vars.iter().enumerate().filter_map(move |(v, var)| match var {
-            Var::Free(_) if cut.vertex_curve[v] != NONE => Some(if held.get(v) == Some(&true) { 1.0 } else { 0.0 }),
-            _ => None,
-        })
+        self.released(cut).map(move |(v, _)| if held.get(v) == Some(&true) { 1.0 } else { 0.0 })
     }
 
     /// Assembles and solves the system for the given node positions and transitions
