@@ -1036,18 +1036,23 @@ mod tests {
         }
     }
 
+    /// A convex general chart near the unit square's proportions.
+    fn random_quad(rng: &mut Rng) -> Chart {
+        Chart::quad([
+            rng.range(0.5, 2.0),
+            rng.range(-0.4, 0.4),
+            rng.range(0.5, 2.0),
+            rng.range(0.8, 2.5),
+            rng.range(0.5, 2.0),
+        ])
+    }
+
     #[test]
     fn moments_give_the_derivatives_of_the_triangle_sums() {
         let mut rng = Rng(0x2545_f491_4f6c_dd1d);
         for _ in 0..20 {
             let tris = random_triangles(&mut rng, 15);
-            let quad = Chart::quad([
-                rng.range(0.5, 2.0),
-                rng.range(-0.4, 0.4),
-                rng.range(0.5, 2.0),
-                rng.range(0.8, 2.5),
-                rng.range(0.5, 2.0),
-            ]);
+            let quad = random_quad(&mut rng);
             let rect = Chart::rect(rng.range(0.3, 2.0), rng.range(0.3, 2.0));
             for chart in [quad, rect] {
                 let gens = generators(chart.kind, &tris);
@@ -1068,13 +1073,7 @@ mod tests {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
         for _ in 0..20 {
             let tris = random_triangles(&mut rng, 12);
-            let quad = Chart::quad([
-                rng.range(0.5, 2.0),
-                rng.range(-0.4, 0.4),
-                rng.range(0.5, 2.0),
-                rng.range(0.8, 2.5),
-                rng.range(0.5, 2.0),
-            ]);
+            let quad = random_quad(&mut rng);
             assert_derivatives_match(&quad, &tris);
             let rect = Chart::rect(rng.range(0.3, 2.0), rng.range(0.3, 2.0));
             assert_derivatives_match(&rect, &tris);
