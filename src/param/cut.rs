@@ -121,7 +121,27 @@ pub fn cut_mesh(mesh: &Mesh, layout: &SurfaceLayout) -> CutMesh {
             }
         })
         .collect();
+    // Most triangles lie inside a face: no curve crosses or runs along them. They are kept
+    // as they are (without the general path's hashing and allocations).
+    let mut crossed = vec![false; mesh.n_edges()];
+    for &e in on_edge.keys() {
+        crossed[e as usize] = true;
+    }
+    let on_layout = |v: u32| out.vertex_curve[v as usize] != NONE || out.vertex_node[v as usize] != NONE;
     for f in 0..mesh.n_faces() as u32 {
+        let corners = [0, 1, 2].map(|k| mesh.from_vertex(mesh.face_halfedge(f, k)));
+        let inside = (0..3).all(|k| !crossed[mesh.edge(mesh.face_halfedge(f, k)) as usize])
+            && !corners.iter().any(|&v| on_layout(v))
+            && !chords_in.contains_key(&f);
+        if inside {
+            if has_area(&out.positions, corners) {
+                let face = corners.iter().map(|&v| vertex_face[v as usize]).find(|&x| x != NONE);
+                out.triangles.push(corners);
+                out.triangle_face.push(face.unwrap_or(layout.triangle_face[f as usize]));
+                out.triangle_origin.push(f);
+            }
+            continue;
+        }
         let boundary = triangle_boundary(mesh, f, &on_edge);
         let chords = chords_in.get(&f).map(Vec::as_slice).unwrap_or(&[]);
         for piece in split(boundary, chords) {
@@ -212,20 +232,33 @@ fn piece_face(
         .map(|&v| vertex_face[v as usize])
 }
 
+/// The smallest corner angle of triangle `t` (0 for a degenerate one).
+fn min_angle(positions: &[[f64; 3]], t: [u32; 3]) -> f64 {
+    let [pa, pb, pc] = t.map(|v| positions[v as usize]);
+    let corners = [(pa, pb, pc), (pb, pc, pa), (pc, pa, pb)];
+    corners.iter().map(|&(x, y, z)| corner_sine(x, y, z).atan2(dot(sub(y, x), sub(z, x)))).fold(f64::INFINITY, f64::min)
+}
+
+/// |u × w| for the edges u = y − x, w = z − x at corner x (zero if and only if the corner
+/// angle is 0 or π).
+fn corner_sine(x: [f64; 3], y: [f64; 3], z: [f64; 3]) -> f64 {
+    norm(cross(sub(y, x), sub(z, x)))
+}
+
+/// Whether triangle `t` has area: [`min_angle`] > 0, without its arc tangents when no
+/// corner is straight or flat (the common case).
+fn has_area(positions: &[[f64; 3]], t: [u32; 3]) -> bool {
+    let [pa, pb, pc] = t.map(|v| positions[v as usize]);
+    [(pa, pb, pc), (pb, pc, pa), (pc, pa, pb)].iter().all(|&(x, y, z)| corner_sine(x, y, z) > 0.0)
+        || min_angle(positions, t) > 0.0
+}
+
 /// Triangulates a convex polygon whose sides may hold collinear points, by clipping the ear
 /// with the largest smallest angle first (no zero-area triangles while a proper ear exists).
 fn triangulate(piece: &[u32], positions: &[[f64; 3]]) -> Vec<[u32; 3]> {
     let mut poly = piece.to_vec();
     let mut out = Vec::with_capacity(poly.len().saturating_sub(2));
-    let p = |v: u32| positions[v as usize];
-    let min_angle = |a: u32, b: u32, c: u32| {
-        let ang = |x: [f64; 3], y: [f64; 3], z: [f64; 3]| {
-            let (u, w) = (sub(y, x), sub(z, x));
-            norm(cross(u, w)).atan2(dot(u, w))
-        };
-        let (pa, pb, pc) = (p(a), p(b), p(c));
-        ang(pa, pb, pc).min(ang(pb, pc, pa)).min(ang(pc, pa, pb))
-    };
+    let min_angle = |a: u32, b: u32, c: u32| min_angle(positions, [a, b, c]);
     while poly.len() > 3 {
         let m = poly.len();
         let best = (0..m)
@@ -238,7 +271,7 @@ fn triangulate(piece: &[u32], positions: &[[f64; 3]]) -> Vec<[u32; 3]> {
         out.push([poly[(i + m - 1) % m], poly[i], poly[(i + 1) % m]]);
         poly.remove(i);
     }
-    if poly.len() == 3 && min_angle(poly[0], poly[1], poly[2]) > 0.0 {
+    if poly.len() == 3 && has_area(positions, [poly[0], poly[1], poly[2]]) {
         out.push([poly[0], poly[1], poly[2]]);
     }
     out
