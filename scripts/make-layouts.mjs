@@ -474,27 +474,26 @@ function bunny(s) {
 const BUNNY_OPTIONS = JSON.parse(process.env.BUNNY ?? '{}');
 const BUNNY_DEFAULT = {
   // Positions in box fractions, each taken to the nearest vertex (corners and frame among those off
-  // the ears, gap among those of the head). They were tuned by a coordinate search (steps of 0.1, one
-  // coordinate at a time), keeping a move that lowered mean angle deviation / 5° + Hausdorff
-  // distance / 1.4 % (later also 4 × the Hausdorff distance's excess over 1.45 %), flipped triangles
-  // counting against it; these are the last positions of that search without a flipped triangle
-  // or quad in any iteration.
+  // the ears, gap among those of the head). They were tuned by coordinate searches (steps of 0.1 and
+  // 0.05, one coordinate at a time), keeping a move that lowered mean angle deviation / 5° + Hausdorff
+  // distance / 1.4 % (later also 4 × the Hausdorff distance's excess over 1.45 %); the last search
+  // rejected every move that flipped a triangle (in any iteration) or a quad.
   // The box's corners: feet below, the back's top behind the ears, the head below the cheeks.
   corners: {
-    tbl: [0.05, 0.5, -0.45], tbr: [0.15, 0.6, 0.65], tfl: [-0.8, 0.05, -0.25], tfr: [-0.9, -0.05, 0.85],
-    bfl: [-0.45, -1, -0.209], bfr: [-0.35, -1.1, 0.997], bbl: [0.65, -1.06, -0.4], bbr: [0.55, -0.95, 0.931],
+    tbl: [0.05, 0.5, -0.5], tbr: [0.1, 0.55, 0.8], tfl: [-0.85, 0.0, -0.2], tfr: [-0.9, -0.1, 0.75],
+    bfl: [-0.55, -1, -0.159], bfr: [-0.35, -1.1, 0.997], bbl: [0.65, -1.01, -0.35], bbr: [0.45, -0.95, 0.931],
   },
   // The ears' bases: bf in front of the front ear, s1, s2 behind it, s3, s4 in front of the back
   // ear, ab behind it (1 on the right, +z; 2 and 4 on the left).
   gap: {
-    s1: [-0.66, 0.58, 0.2], s2: [-0.56, 0.48, -0.15], bf1: [-0.92, 0.45, 0.05], bf2: [-0.82, 0.25, -0.2],
-    ab1: [-0.3, 0.78, 0.1], ab2: [-0.2, 0.481, -0.15], s3: [-0.67, 0.95, 0.1], s4: [-0.45, 0.45, -0.05],
+    s1: [-0.66, 0.63, 0.1], s2: [-0.56, 0.48, -0.1], bf1: [-0.92, 0.6, 0.15], bf2: [-0.82, 0.25, -0.2],
+    ab1: [-0.3, 0.78, 0.05], ab2: [-0.2, 0.481, -0.15], s3: [-0.52, 1.0, 0.0], s4: [-0.45, 0.45, -0.05],
   },
   // The grid's border: F across the face, L down the head's left side, R on its right, B on the back.
   frame: {
-    F1: [-1.1, 0.2, -0.2], F2: [-1.2, 0.3, 0.05], L1: [-0.6, 0.25, -0.15], L2: [-0.52, 0.3, -0.2],
-    L3: [-0.45, 0.35, -0.1], L4: [-0.45, 0.25, -0.4], R1: [-0.75, 0.3, 0.8], R2: [-0.65, 0.35, 0.85],
-    R3: [-0.35, 0.35, 0.75], R4: [-0.3, 0.35, 0.6], B1: [0.2, 0.65, -0.2], B2: [0.2, 0.55, 0.15],
+    F1: [-1.1, 0.1, -0.2], F2: [-1.15, 0.15, 0.05], L1: [-0.55, 0.15, -0.15], L2: [-0.42, 0.4, -0.2],
+    L3: [-0.45, 0.4, -0.1], L4: [-0.45, 0.1, -0.4], R1: [-0.65, 0.2, 0.75], R2: [-0.55, 0.25, 0.8],
+    R3: [-0.35, 0.35, 0.75], R4: [-0.3, 0.4, 0.65], B1: [0.3, 0.65, -0.25], B2: [0.25, 0.55, 0.25],
   },
   rows: [['tfl', 'F1', 'F2', 'tfr'], ['L1', 'bf2', 'bf1', 'R1'], ['L2', 's2', 's1', 'R2'], ['L3', 's4', 's3', 'R3'],
     ['L4', 'ab2', 'ab1', 'R4'], ['tbl', 'B1', 'B2', 'tbr']],
