@@ -359,7 +359,7 @@ fn sample_mesh(name: &str) -> Option<&'static str> {
 /// Faces and T-vertices of each sample (as `quadlay check` prints them).
 const SAMPLES: [(&str, usize, usize); 8] = [
     ("bunny-cube", 6, 0),
-    ("bunny-ears", 25, 2),
+    ("bunny-ears", 28, 12),
     ("eight-rims", 12, 8),
     ("fandisk-cube", 6, 0),
     ("fandisk-features", 36, 16),

@@ -142,10 +142,13 @@ fn every_sample_gives_a_welded_pure_quad_mesh() {
 }
 
 /// What the gallery's layouts reach where the issue's targets (4° on the fandisk; 1.4 % and
-/// 5° on the bunny) are not met yet; see the closing note of the extraction issue.
+/// 5° on the bunny) are not met yet; see the closing note of the extraction issue. The bunny's
+/// grid layout (28 faces) reaches 5.74° and 1.68 %: its angles are far better than the box
+/// layout's 9.06° (25 faces), its Hausdorff distance worse (that one reached 1.49 %), where
+/// rows of few segments cross the ears' bases and the forehead.
 const FANDISK_ANGLE: f64 = 4.7;
-const BUNNY_HAUSDORFF: f64 = 0.0165;
-const BUNNY_ANGLE: f64 = 10.5;
+const BUNNY_HAUSDORFF: f64 = 0.0170;
+const BUNNY_ANGLE: f64 = 5.8;
 
 /// The issue's reference: fandisk and bunny_28k with the gallery's layouts at about 4,000
 /// quads, against what Instant Meshes reaches on them here (symmetric Hausdorff below 0.9 %
