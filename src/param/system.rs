@@ -250,9 +250,9 @@ pub struct StageTimes {
 /// through transitions. Where no general quadrilateral chart is involved, chart sides are
 /// parallel to the axes and transitions turn by multiples of 90°, so they still do not mix:
 /// the pattern leaves out the entries that would couple them. An aligned side then touches
-/// only u or only v, which splits the coupling graph further (bunny-ears, rect and unit
-/// charts with three general ones, every curve aligned: 2.5 M values in the factor instead
-/// of 5.9 M).
+/// only u or only v, which splits the coupling graph further (bunny-ears' earlier box layout,
+/// rect and unit charts with three general ones, every curve aligned: 2.5 M values in the
+/// factor instead of 5.9 M).
 pub struct System {
     /// Per vertex: `Free(i)` (unknowns i, i + 1), `OnSide(i)` or `Fixed`.
     vars: Vec<Var>,
