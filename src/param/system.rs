@@ -55,7 +55,8 @@
 //!   T-vertex pieces scale even between unit charts, 7 on fandisk after the loop);
 //! - solved once with the same charts the two differ by at most 1.2 % (fandisk 0.3098 vs
 //!   0.3082, bunny 0.5317 vs 0.5285, eight-rims 0.2125 vs 0.2150): the formulation matters
-//!   less than where the chart loop leads;
+//!   less than where the chart loop leads; the exception is bunny-ears' grid layout (12
+//!   T-vertices), where eq. 3 is 25 % higher (0.716 against the symmetric 0.572);
 //! - it is symmetric positive definite: Cholesky with the symbolic factorization kept across
 //!   solves, 3–9× faster per run than eq. 3's LU (symbolic analysis redone per solve).
 //!
