@@ -462,14 +462,7 @@ fn energy_of(x: &[f64; 5], gens: &[Generators], n: usize) -> (f64, Vec<f64>, Vec
     let mut sz = [[[0.0; 2]; 2]; 5];
     for Generators { weight: w, gx, along: gz } in gens {
         let w = *w;
-        let mut j = [[0.0; 2]; 2];
-        for (xk, gk) in x.iter().zip(gx) {
-            j = add_scaled(&j, *xk, gk);
-        }
-        let jt = transpose(&j);
-        let mut m = mul(&jt, &j);
-        m[0][0] -= 1.0;
-        m[1][1] -= 1.0;
+        let (j, m) = strain(x, gx);
         value += w * frob2(&m);
         for k in 0..n {
             let gtj = mul(&transpose(&gz[k]), &j);
@@ -502,16 +495,21 @@ fn energy_of(x: &[f64; 5], gens: &[Generators], n: usize) -> (f64, Vec<f64>, Vec
 fn energy_value(x: &[f64; 5], gens: &[Generators]) -> f64 {
     let mut value = 0.0;
     for Generators { weight, gx, .. } in gens {
-        let mut j = [[0.0; 2]; 2];
-        for (xk, gk) in x.iter().zip(gx) {
-            j = add_scaled(&j, *xk, gk);
-        }
-        let mut m = mul(&transpose(&j), &j);
-        m[0][0] -= 1.0;
-        m[1][1] -= 1.0;
-        value += weight * frob2(&m);
+        value += weight * frob2(&strain(x, gx).1);
     }
     value
+}
+
+/// A triangle's Jacobian `J = Σₖ xₖ Gₖ` and its strain `M = JᵀJ − I` (eq. 7).
+fn strain(x: &[f64; 5], gx: &[Mat2; 5]) -> (Mat2, Mat2) {
+    let mut j = [[0.0; 2]; 2];
+    for (xk, gk) in x.iter().zip(gx) {
+        j = add_scaled(&j, *xk, gk);
+    }
+    let mut m = mul(&transpose(&j), &j);
+    m[0][0] -= 1.0;
+    m[1][1] -= 1.0;
+    (j, m)
 }
 
 /// Eq. 10 as a polynomial in the free variables `z`, for its gradient and Hessian without a
@@ -701,7 +699,7 @@ pub fn optimize(
         };
         (start, report)
     };
-    if kind.dofs() == 0 {
+    if n == 0 {
         return unchanged(Termination::NothingToOptimize);
     }
     let total_area: f64 = gens.iter().map(|g| g.weight).sum();

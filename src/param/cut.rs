@@ -135,7 +135,7 @@ pub fn cut_mesh(mesh: &Mesh, layout: &SurfaceLayout) -> CutMesh {
             && !chords_in.contains_key(&f);
         if inside {
             if has_area(&out.positions, corners) {
-                let face = corners.iter().map(|&v| vertex_face[v as usize]).find(|&x| x != NONE);
+                let face = off_curve_face(&corners, &vertex_face, &out.vertex_curve, n);
                 out.triangles.push(corners);
                 out.triangle_face.push(face.unwrap_or(layout.triangle_face[f as usize]));
                 out.triangle_origin.push(f);
@@ -226,7 +226,12 @@ fn piece_face(
             }
         }
     }
-    piece
+    off_curve_face(piece, vertex_face, vertex_curve, n_input)
+}
+
+/// The face of the first of `vertices` that is an input vertex off the curves, if any.
+fn off_curve_face(vertices: &[u32], vertex_face: &[u32], vertex_curve: &[u32], n_input: usize) -> Option<u32> {
+    vertices
         .iter()
         .find(|&&v| (v as usize) < n_input && vertex_curve[v as usize] == NONE && vertex_face[v as usize] != NONE)
         .map(|&v| vertex_face[v as usize])
@@ -234,9 +239,13 @@ fn piece_face(
 
 /// The smallest corner angle of triangle `t` (0 for a degenerate one).
 fn min_angle(positions: &[[f64; 3]], t: [u32; 3]) -> f64 {
+    corners(positions, t).iter().map(|&(x, y, z)| corner_sine(x, y, z).atan2(dot(sub(y, x), sub(z, x)))).fold(f64::INFINITY, f64::min)
+}
+
+/// Triangle `t`'s three corners, each as (corner, next, previous) positions.
+fn corners(positions: &[[f64; 3]], t: [u32; 3]) -> [([f64; 3], [f64; 3], [f64; 3]); 3] {
     let [pa, pb, pc] = t.map(|v| positions[v as usize]);
-    let corners = [(pa, pb, pc), (pb, pc, pa), (pc, pa, pb)];
-    corners.iter().map(|&(x, y, z)| corner_sine(x, y, z).atan2(dot(sub(y, x), sub(z, x)))).fold(f64::INFINITY, f64::min)
+    [(pa, pb, pc), (pb, pc, pa), (pc, pa, pb)]
 }
 
 /// |u × w| for the edges u = y − x, w = z − x at corner x (zero if and only if the corner
@@ -248,8 +257,7 @@ fn corner_sine(x: [f64; 3], y: [f64; 3], z: [f64; 3]) -> f64 {
 /// Whether triangle `t` has area: [`min_angle`] > 0, without its arc tangents when no
 /// corner is straight or flat (the common case).
 fn has_area(positions: &[[f64; 3]], t: [u32; 3]) -> bool {
-    let [pa, pb, pc] = t.map(|v| positions[v as usize]);
-    [(pa, pb, pc), (pb, pc, pa), (pc, pa, pb)].iter().all(|&(x, y, z)| corner_sine(x, y, z) > 0.0)
+    corners(positions, t).iter().all(|&(x, y, z)| corner_sine(x, y, z) > 0.0)
         || min_angle(positions, t) > 0.0
 }
 
