@@ -14,6 +14,7 @@ use crate::report::{Report, Seconds};
 use crate::summary::{LayoutSummary, MeshSummary};
 use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
 
 #[wasm_bindgen]
 pub struct Session {
@@ -39,7 +40,7 @@ struct Run {
     quads: Option<(QuadMesh, Report)>,
 }
 
-/// Options of [`Session::remesh`] (all optional).
+/// Options of [`Session::remesh`] (all optional; unknown keys are errors, see [`options`]).
 #[derive(Deserialize, Default)]
 #[serde(default)]
 struct RemeshOptions {
@@ -48,7 +49,8 @@ struct RemeshOptions {
     edge_length: Option<f64>,
 }
 
-/// Options of a parameterization run, as one object from JS (all optional).
+/// Options of a parameterization run, as one object from JS (all optional; unknown keys are
+/// errors, see [`options`]).
 #[derive(Deserialize, Default)]
 #[serde(default)]
 struct SolveOptions {
@@ -57,6 +59,21 @@ struct SolveOptions {
     /// Chart type of faces without a chart in a `patches` entry: "quad", "rect" or "unit";
     /// absent or null: the layout's `defaults.chart`.
     chart: Option<String>,
+}
+
+/// An options object from JS. Its keys are checked first: serde-wasm-bindgen reads only the
+/// fields it knows (`deny_unknown_fields` never sees the others), so a misspelled option
+/// (`edgeLength`) would be ignored without a word.
+fn options<T: serde::de::DeserializeOwned>(value: JsValue, what: &str, known: &[&str]) -> Result<T, JsError> {
+    if value.is_object() {
+        for key in js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>()).iter() {
+            let key = key.as_string().unwrap_or_default();
+            if !known.contains(&key.as_str()) {
+                return Err(JsError::new(&format!("{what}: unknown option `{key}` (known: {})", known.join(", "))));
+            }
+        }
+    }
+    serde_wasm_bindgen::from_value(value).map_err(|e| JsError::new(&format!("{what}: {e}")))
 }
 
 /// A face's chart as the page draws it (paper Fig. 9).
@@ -162,7 +179,7 @@ impl Session {
         } else if options.is_undefined() || options.is_null() {
             SolveOptions::default()
         } else {
-            serde_wasm_bindgen::from_value(options).map_err(|e| JsError::new(&format!("solve options: {e}")))?
+            self::options(options, "solve options", &["align", "chart"])?
         };
         let chart = match opts.chart.as_deref() {
             None => None,
@@ -294,7 +311,7 @@ impl Session {
         let opts: RemeshOptions = if options.is_undefined() || options.is_null() {
             RemeshOptions::default()
         } else {
-            serde_wasm_bindgen::from_value(options).map_err(|e| JsError::new(&format!("remesh options: {e}")))?
+            self::options(options, "remesh options", &["edge_length"])?
         };
         let mesh = &self.loaded.mesh;
         let (load, layout_seconds) = (self.load_seconds, self.layout_seconds);
