@@ -52,13 +52,14 @@ fn param_stages(mesh: &quadlay::mesh::Mesh, layout: &quadlay::layout::SurfaceLay
     });
     let quality_ms = t.elapsed().as_secs_f64() * 1e3;
     format!(
-        ",\"mesh_ms\":{mesh_ms:.1},\"quality_ms\":{quality_ms:.1},\"quads\":{n_quads},\"param_initial_ms\":{initial:.1},\"param_3_iterations_ms\":{iterations:.1},\"param_final_ms\":{final_ms:.1},\"param_total_ms\":{:.1},\"distortion\":{fin:.4},\"param_stages_ms\":{{\"assembly\":{:.1},\"symbolic\":{:.1},\"factor\":{:.1},\"solve\":{:.1},\"chart_optimization\":{:.1}}}",
+        ",\"mesh_ms\":{mesh_ms:.1},\"quality_ms\":{quality_ms:.1},\"quads\":{n_quads},\"param_initial_ms\":{initial:.1},\"param_3_iterations_ms\":{iterations:.1},\"param_final_ms\":{final_ms:.1},\"param_total_ms\":{:.1},\"distortion\":{fin:.4},\"param_stages_ms\":{{\"assembly\":{:.1},\"symbolic\":{:.1},\"factor\":{:.1},\"solve\":{:.1},\"chart_optimization\":{:.1}}},\"factorizations\":{}",
         initial + iterations + final_ms,
         st.assembly * 1e3,
         st.symbolic * 1e3,
         st.factor * 1e3,
         st.solve * 1e3,
-        st.chart_optimization * 1e3
+        st.chart_optimization * 1e3,
+        st.factorizations
     )
 }
 

@@ -372,8 +372,9 @@ impl Session {
         }
     }
 
-    /// Seconds per stage of the current parameterization's solves so far: `{ assembly,
-    /// symbolic, factor, solve, chart_optimization }` (for benchmarks).
+    /// Seconds per stage of the current parameterization's solves so far, and the number of
+    /// numeric factorizations: `{ assembly, symbolic, factor, solve, chart_optimization,
+    /// factorizations }` (for benchmarks).
     #[wasm_bindgen(js_name = paramStages)]
     pub fn param_stages(&self) -> Result<JsValue, JsError> {
         to_js(&self.param_ref()?.stage_times())

@@ -228,7 +228,8 @@ pub fn cotangent_halves(cut: &CutMesh) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Seconds spent in each stage of the solves so far (for benchmarks).
+/// Seconds spent in each stage of the solves so far, and how many numeric factorizations
+/// they made (for benchmarks: each costs the most of any stage).
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
 pub struct StageTimes {
     pub assembly: f64,
@@ -236,6 +237,7 @@ pub struct StageTimes {
     pub factor: f64,
     pub solve: f64,
     pub chart_optimization: f64,
+    pub factorizations: u32,
 }
 
 /// The global system for one set of aligned curves: its unknowns, and one sparsity pattern
@@ -516,6 +518,7 @@ impl System {
         solver.factor(&values)?;
         self.solver = Some(solver);
         self.times.factor += now() - t2;
+        self.times.factorizations += 1;
         Ok(())
     }
 
@@ -544,6 +547,7 @@ impl System {
         self.times.assembly += t1 - t0;
         if let Some(solver) = self.solver.as_mut() {
             solver.factor_summed(&stored)?;
+            self.times.factorizations += 1;
         }
         self.times.factor += now() - t1;
         Ok(())
