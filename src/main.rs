@@ -36,6 +36,16 @@ fn bad_input(message: String) -> Failure {
     Failure { code: 2, message }
 }
 
+/// Writes `text` to standard output. A closed pipe (`quadlay remesh ... --report - | head`) is
+/// an error with exit status 1, where `print!` would panic.
+fn say(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .map_err(|e| Failure { code: 1, message: format!("standard output: cannot write: {e}") })
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match run(&args) {
@@ -52,12 +62,10 @@ fn run(args: &[String]) -> Result<(), Failure> {
         Some("check") => check(&args[1..]),
         Some("remesh") => remesh(&args[1..]),
         Some("--help") | Some("-h") => {
-            println!("{USAGE}");
-            Ok(())
+            say(&format!("{USAGE}\n"))
         }
         Some("--version") => {
-            println!("quadlay {}", env!("CARGO_PKG_VERSION"));
-            Ok(())
+            say(&format!("quadlay {}\n", env!("CARGO_PKG_VERSION")))
         }
         Some(other) => Err(bad_input(format!("unknown command '{other}' (quadlay --help lists them)"))),
         None => Err(bad_input("no command given (quadlay --help lists them)".into())),
@@ -82,11 +90,11 @@ fn check(args: &[String]) -> Result<(), Failure> {
     let path = mesh_path.ok_or_else(|| bad_input("check needs a mesh file".into()))?;
     let loaded = load(path)?;
     let layout = layout_path.map(|lp| load_layout(&loaded.mesh, lp)).transpose()?;
-    print!("mesh:           {path}\n{}", MeshSummary::of(&loaded));
+    let mut text = format!("mesh:           {path}\n{}", MeshSummary::of(&loaded));
     if let (Some(lp), Some(layout)) = (layout_path, layout) {
-        print!("layout:         {lp}\n{}", LayoutSummary::of(&layout));
+        text += &format!("layout:         {lp}\n{}", LayoutSummary::of(&layout));
     }
-    Ok(())
+    say(&text)
 }
 
 fn load_layout(mesh: &quadlay::mesh::Mesh, path: &str) -> Result<SurfaceLayout, Failure> {
@@ -268,19 +276,19 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     }
     let json = serde_json::to_string_pretty(&report).map_err(|e| Failure { code: 1, message: e.to_string() })?;
     match a.report.as_deref() {
-        Some("-") => println!("{json}"),
+        Some("-") => say(&format!("{json}\n"))?,
         Some(path) => write_atomically(path, format!("{json}\n").as_bytes())?,
         None => {}
     }
     if a.report.as_deref() != Some("-") {
         let q = &report.quads;
         let p = &report.parameterization;
-        println!(
+        say(&format!(
             "{} quads, {} vertices ({} irregular); distortion {:.4} (max {:.3}, {} flipped triangles); \
-             Hausdorff {:.3}% of the diagonal; {:.2} s",
+             Hausdorff {:.3}% of the diagonal; {:.2} s\n",
             q.faces, q.vertices, q.irregular_vertices, p.distortion_mean, p.distortion_max, p.flipped_triangles,
             100.0 * q.hausdorff, seconds.total
-        );
+        ))?;
     }
     Ok(())
 }

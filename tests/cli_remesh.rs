@@ -152,3 +152,22 @@ fn chart_and_no_align_options_change_the_result() {
     let free = run(&["--no-align"]);
     assert_ne!(d(&free), d(&run(&[])), "--no-align releases the tagged edges");
 }
+
+/// `quadlay remesh ... --report - | head -1`: the reader is gone before the report is written.
+/// The run fails with exit status 1 and one `error:` line, not a panic.
+#[test]
+fn a_closed_standard_output_is_an_error_not_a_panic() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_quadlay"))
+        .args(["remesh", &mushroom(), "--layout", &layout("mushroom-grid"), "--report", "-"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // close the pipe's reading end
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(stderr.lines().collect::<Vec<_>>(), ["error: standard output: cannot write: Broken pipe (os error 32)"]);
+}
