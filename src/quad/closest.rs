@@ -154,19 +154,21 @@ impl TriangleTree {
             .filter(|(_, t)| t.iter().flatten().all(|x| x.is_finite()))
             .map(|(i, t)| (i as u32, t))
             .unzip();
-        let centroids: Vec<Vec3> = corners
+        // Each triangle's centroid beside its index: the median selections below then read
+        // contiguous memory.
+        let mut order: Vec<(Vec3, u32)> = corners
             .iter()
-            .map(|t| std::array::from_fn(|k| (t[0][k] + t[1][k] + t[2][k]) / 3.0))
+            .enumerate()
+            .map(|(i, t)| (std::array::from_fn(|k| (t[0][k] + t[1][k] + t[2][k]) / 3.0), i as u32))
             .collect();
-        let mut order: Vec<u32> = (0..corners.len() as u32).collect();
         let mut nodes = Vec::with_capacity(2 * corners.len() / LEAF_SIZE + 1);
         if !order.is_empty() {
-            split(&mut nodes, &mut order, 0, &corners, &centroids);
+            split(&mut nodes, &mut order, 0, &corners);
         }
         TriangleTree {
             nodes,
-            triangles: order.iter().map(|&i| corners[i as usize]).collect(),
-            ids: order.iter().map(|&i| ids[i as usize]).collect(),
+            triangles: order.iter().map(|&(_, i)| corners[i as usize]).collect(),
+            ids: order.iter().map(|&(_, i)| ids[i as usize]).collect(),
         }
     }
 
@@ -272,41 +274,27 @@ impl TriangleTree {
 }
 
 /// Appends the subtree over `order` (the triangles `offset..offset + order.len()` of the
-/// final order) to `nodes` and returns its root index.
-fn split(
-    nodes: &mut Vec<Node>,
-    order: &mut [u32],
-    offset: u32,
-    corners: &[[Vec3; 3]],
-    centroids: &[Vec3],
-) -> u32 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
+/// final order, each with its centroid) to `nodes` and returns its root index. A node's box
+/// is the union of its children's, so each level looks at the centroids only (to choose the
+/// split axis).
+fn split(nodes: &mut Vec<Node>, order: &mut [(Vec3, u32)], offset: u32, corners: &[[Vec3; 3]]) -> u32 {
+    let index = nodes.len() as u32;
+    if order.len() <= LEAF_SIZE {
+        let mut node = Node { lo: [f64::INFINITY; 3], hi: [f64::NEG_INFINITY; 3], start: offset, count: order.len() as u32 };
+        for p in order.iter().flat_map(|&(_, t)| corners[t as usize]) {
+            node.lo = std::array::from_fn(|k| node.lo[k].min(p[k]));
+            node.hi = std::array::from_fn(|k| node.hi[k].max(p[k]));
+        }
+        nodes.push(node);
+        return index;
+    }
     let mut c_lo = [f64::INFINITY; 3];
     let mut c_hi = [f64::NEG_INFINITY; 3];
-    for &t in order.iter() {
-        for p in corners[t as usize] {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let c = centroids[t as usize];
+    for &(c, _) in order.iter() {
         for k in 0..3 {
             c_lo[k] = c_lo[k].min(c[k]);
             c_hi[k] = c_hi[k].max(c[k]);
         }
-    }
-    let index = nodes.len() as u32;
-    let count = order.len() as u32;
-    nodes.push(Node {
-        lo,
-        hi,
-        start: offset,
-        count,
-    });
-    if order.len() <= LEAF_SIZE {
-        return index;
     }
     let axis = (0..3).fold(0, |best, k| {
         if c_hi[k] - c_lo[k] > c_hi[best] - c_lo[best] {
@@ -316,15 +304,15 @@ fn split(
         }
     });
     let mid = order.len() / 2;
-    order.select_nth_unstable_by(mid, |&a, &b| {
-        centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
-    });
+    order.select_nth_unstable_by(mid, |a, b| a.0[axis].total_cmp(&b.0[axis]));
+    nodes.push(Node { lo: [0.0; 3], hi: [0.0; 3], start: 0, count: 0 }); // filled below
     let (left, right) = order.split_at_mut(mid);
-    split(nodes, left, offset, corners, centroids);
-    let second = split(nodes, right, offset + mid as u32, corners, centroids);
+    let first = split(nodes, left, offset, corners);
+    let second = split(nodes, right, offset + mid as u32, corners);
+    let (a, b) = (nodes[first as usize], nodes[second as usize]);
     nodes[index as usize] = Node {
-        lo,
-        hi,
+        lo: std::array::from_fn(|k| a.lo[k].min(b.lo[k])),
+        hi: std::array::from_fn(|k| a.hi[k].max(b.hi[k])),
         start: second,
         count: 0,
     };
