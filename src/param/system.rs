@@ -293,6 +293,7 @@ struct Pattern {
 #[derive(Clone, Copy)]
 struct Assembly<'a> {
     cut: &'a CutMesh,
+    /// Per triangle in the first solve; per varying triangle ([`Pattern::varying`]) later.
     exprs: &'a [[Expr; 3]],
     weights: &'a [[f64; 3]],
     held: &'a [bool],
@@ -528,10 +529,10 @@ impl System {
         let Assembly { cut, exprs, weights, held } = *a;
         let p = &self.pattern;
         let mut stored = p.constant.clone();
-        for &t in &p.varying {
+        for (&t, ex) in p.varying.iter().zip(exprs) {
             let t = t as usize;
             let (mut candidate, mut at) = (p.candidate_start[t] as usize, p.value_start[t] as usize);
-            triangle_terms(&exprs[t], &weights[t], None, rhs, |_, _, value, _| {
+            triangle_terms(ex, &weights[t], None, rhs, |_, _, value, _| {
                 if p.keep[candidate] {
                     stored[p.slot[at] as usize] += value;
                     at += 1;
@@ -587,15 +588,22 @@ impl System {
     ) -> Result<Solution, ParamError> {
         let t0 = now();
         let own = self.own_exprs(cut, nodes, sides, held)?;
-        let mut exprs = Vec::with_capacity(cut.triangles.len());
-        for (t, tri) in cut.triangles.iter().enumerate() {
-            let face = cut.triangle_face[t];
+        let exprs_of = |t: usize| -> Result<[Expr; 3], ParamError> {
+            let (tri, face) = (&cut.triangles[t], cut.triangle_face[t]);
             let e = |k: usize| self.expr(cut, &own, tri[k], face, nodes, sides, transitions);
-            exprs.push([e(0)?, e(1)?, e(2)?]);
-        }
+            Ok([e(0)?, e(1)?, e(2)?])
+        };
+        let first = self.solver.is_none();
+        // Later solves need only the varying triangles' expressions: the others' vertices
+        // are their own unknowns.
+        let exprs = if first {
+            (0..cut.triangles.len()).map(exprs_of).collect::<Result<Vec<_>, _>>()?
+        } else {
+            self.pattern.varying.iter().map(|&t| exprs_of(t as usize)).collect::<Result<Vec<_>, _>>()?
+        };
         let mut rhs = vec![0.0; self.n_unknowns];
         let assembly = Assembly { cut, exprs: &exprs, weights, held };
-        if self.solver.is_none() {
+        if first {
             self.first_solve(&assembly, &mut rhs, t0)?;
         } else {
             self.later_solve(&assembly, &mut rhs, t0)?;
@@ -606,7 +614,19 @@ impl System {
             solver.solve_in_place(&mut z)?;
         }
         self.times.solve += now() - t3;
-        let corner_uv = exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect();
+        if first {
+            return Ok(Solution { corner_uv: exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect() });
+        }
+        let mut varying = self.pattern.varying.iter().zip(&exprs).peekable();
+        let corner_uv = cut
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(t, tri)| match varying.next_if(|(&v, _)| v as usize == t) {
+                Some((_, ex)) => ex.map(|e| e.eval(&z)),
+                None => tri.map(|v| own[v as usize].map_or([0.0, 0.0], |e| e.eval(&z))),
+            })
+            .collect();
         Ok(Solution { corner_uv })
     }
 }
