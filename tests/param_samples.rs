@@ -47,6 +47,15 @@ fn sample_layouts_parameterize_without_flips_and_lower_the_distortion() {
             // tries both, the next two start from half a step, and the final solve (every
             // curve tagged) reuses the last.
             assert_eq!(s.stage_times().factorizations, 5, "bunny-ears: factorizations");
+            // Six more: the share carried over (and doubled back after two kept steps) keeps
+            // the folds few; trying every step at full length first flipped 4, 18, 30, 36
+            // and 44 triangles in iterations 5 to 9.
+            for _ in 0..6 {
+                s.step().unwrap();
+            }
+            let flips: Vec<usize> = s.history().iter().map(|h| h.distortion.flipped).collect();
+            println!("bunny-ears, 9 iterations: flipped {flips:?}, {} factorizations", s.stage_times().factorizations);
+            assert!(flips.iter().all(|&f| f <= 4), "bunny-ears: flipped {flips:?}");
         }
     }
 }

@@ -95,6 +95,11 @@ pub const FINAL_ANCHORS: [f64; 2] = [0.1, 0.25];
 /// `ParamSession::without_new_flips`).
 pub const STEP_SHARES: [f64; 2] = [0.5, 0.25];
 
+/// Iterations in a row that keep a shortened step share before it is doubled again (see
+/// `ParamSession::without_new_flips`): the share recovers when folds stop, and cannot
+/// shrink towards no step at all over many iterations.
+pub const GROW_AFTER: u32 = 2;
+
 /// The state of a parameterization: refined mesh, charts, factorizations, history.
 pub struct ParamSession {
     cut: CutMesh,
@@ -118,8 +123,11 @@ pub struct ParamSession {
     anderson: anderson::Anderson,
     accelerate: bool,
     /// The share of its chart step an iteration starts from: 1 until a step had to be
-    /// shortened (see [`ParamSession::without_new_flips`]), then the share that was kept.
+    /// shortened (see [`ParamSession::without_new_flips`]), then the share that was kept,
+    /// doubled again after [`GROW_AFTER`] iterations in a row that kept it.
     step_share: f64,
+    /// Iterations in a row whose step was not shortened.
+    kept_steps: u32,
     chart_seconds: f64,
 }
 
@@ -201,6 +209,7 @@ impl ParamSession {
             anderson: anderson::Anderson::new(5),
             accelerate: options.accelerate,
             step_share: 1.0,
+            kept_steps: 0,
             chart_seconds: 0.0,
         };
         let sol = session.solve(None)?;
@@ -395,7 +404,8 @@ impl ParamSession {
     ///
     /// The share kept is where the next iteration starts: a layout whose full steps fold
     /// triangles keeps folding them (bunny-ears' full steps flipped 2, 8 and 16 triangles,
-    /// every half step none), and each solve tried in vain costs a factorization.
+    /// every half step none), and each solve tried in vain costs a factorization. After
+    /// [`GROW_AFTER`] iterations that kept their share it doubles again (at most to 1).
     fn without_new_flips(
         &mut self,
         start: &[Chart],
@@ -404,6 +414,11 @@ impl ParamSession {
     ) -> Result<(Solution, Distortion), ParamError> {
         let before = self.history.last().map_or(usize::MAX, |h| h.distortion.flipped);
         if !self.guard_flips || d.flipped <= before {
+            self.kept_steps += 1;
+            if self.kept_steps >= GROW_AFTER && self.step_share < 1.0 {
+                self.step_share = (2.0 * self.step_share).min(1.0);
+                self.kept_steps = 0;
+            }
             return Ok((sol, d));
         }
         let full = self.charts.clone();
@@ -423,6 +438,9 @@ impl ParamSession {
         if best.3 < 1.0 {
             self.anderson.reset();
             self.step_share *= best.3;
+            self.kept_steps = 0;
+        } else {
+            self.kept_steps += 1;
         }
         Ok((best.0, best.1))
     }
