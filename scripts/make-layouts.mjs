@@ -257,7 +257,7 @@ const FANDISK_OPTIONS = JSON.parse(process.env.FANDISK ?? '{}');
 const FANDISK_DEFAULT = {
   // Nodes besides the feature corners (names below).
   base: ['T1', 'T2', 'T3', 'B0', 'M6', 'C6a', 'C6b', 'TA6', 'TB6', 'AT6', 'M7', 'AT7', 'TA7', 'TB7', 'M9', 'U9', 'L9',
-    'P31', 'P30', 'X06', 'X26', 'C7a', 'X7', 'Pm'],
+    'P31', 'P30', 'X06', 'X26', 'C7a', 'X7', 'Pm', 'Lm', 'Sm'],
   // Straight lines across the smooth regions.
   baseLines: [
     // Stepped side: up from its three reflex corners to the top edge.
@@ -272,22 +272,25 @@ const FANDISK_DEFAULT = {
     ['c1078', 'X06'], ['X06', 'X26'], ['X26', 'P31'], ['P31', 'P30'], ['P30', 'X7'], ['X7', 'T2'],
     ['B0', 'X06'], ['X06', 'C6b'], ['C6a', 'X26'], ['X26', 'M6'],
     // Top: lines from the stepped side's top edge to the fillet and the S-curve, and down from the fillet.
-    ['T1', 'C7a'], ['T3', 'M7'], ['M7', 'X7'], ['X7', 'C7a'],
+    ['T1', 'Lm'], ['Lm', 'C7a'], ['T3', 'M7'], ['M7', 'X7'], ['X7', 'C7a'],
   ],
-  // The big curved face: split from the end of the inner arch (1081) to the S-curve (Pm).
-  lines: [['c1081', 'Pm']],
+  // The big curved face: split from the end of the inner arch (1081) to the S-curve (Pm). The
+  // crescent on top between the line T1–C7a and the S-curve: cut across (Lm–Sm) into a near
+  // rectangle at the stepped side and the thin wedge at C7a, where the line meets the S-curve at
+  // about 25° (a quad there must shear; the cut keeps the shear out of the wide part).
+  lines: [['c1081', 'Pm'], ['Lm', 'Sm']],
   // Chart types per face (counter-clockwise corners); the rest are rectangles (`chart` below). Chosen
   // one face at a time, keeping a change that lowered the quads' mean angle deviation without
   // raising the Hausdorff distance or flipping a triangle: unit squares where the surface face is
   // near square (or the rectangle's aspect drifts and shears its neighbours), general quads for
-  // the tapered faces (the arms around the outer arch's middle M9, the strip beside the S-curve's
-  // end, the top beside the tab).
+  // the tapered faces (the arms around the outer arch's middle M9). The split nodes' positions
+  // (M6, M7, TA, TB, AT, P30, X7, M9, Pm) were then tuned by a coordinate search (steps of 0.01
+  // box units, chart types re-chosen after each round) with the same rule: 4.59° → 4.12°.
   patches: [['c900', 'c1081', 'Pm', 'c4745', 'unit'], ['c1078', 'c1358', 'c2012', 'c2366', 'unit'],
     ['c1081', 'c1078', 'X06', 'B0', 'unit'], ['C6a', 'B0', 'X06', 'X26', 'unit'], ['c5526', 'C6a', 'X26', 'P31', 'unit'],
-    ['c1450', 'c4037', 'c4745', 'T1', 'quad'], ['c2012', 'c1972', 'c2145', 'c2366', 'unit'],
-    ['c2145', 'c3243', 'c4121', 'c2366', 'unit'], ['c4121', 'c4124', 'X06', 'c1078', 'unit'],
-    ['c3243', 'c3444', 'U9', 'M9', 'quad'], ['c4121', 'M9', 'L9', 'c4124', 'quad'], ['c3444', 'T3', 'M7', 'AT7', 'quad'],
-    ['T2', 'T1', 'C7a', 'X7', 'unit'], ['T1', 'c4745', 'Pm', 'C7a', 'unit'], ['TA6', 'c4124', 'c5598', 'TA7', 'unit'],
+    ['c1450', 'c4037', 'c4745', 'T1', 'unit'], ['c2012', 'c1972', 'c2145', 'c2366', 'unit'],
+    ['c2145', 'c3243', 'c4121', 'c2366', 'unit'], ['c3243', 'c3444', 'U9', 'M9', 'quad'], ['c4121', 'M9', 'L9', 'c4124', 'quad'],
+    ['c3444', 'T3', 'M7', 'AT7', 'unit'], ['Lm', 'Sm', 'Pm', 'C7a', 'unit'], ['TA6', 'c4124', 'c5598', 'TA7', 'unit'],
     ['c4192', 'c5526', 'P31', 'P30', 'unit'], ['C7a', 'c4192', 'P30', 'X7', 'unit'], ['P30', 'c5367', 'M7', 'X7', 'unit']],
   extra: [],
   alignLines: true,
@@ -331,31 +334,32 @@ function fandisk(s) {
   const T3 = on(c22, [null, null, s.p(K.c2145)[2]]);
   // Bottom (y = min): the step rectangle, the strip x in [0, 0.05], the fillet of the tab.
   const B0 = on(c7, [s.p(K.c4124)[0], null, null]);
-  const M6 = on(c26, [-0.263, null, 0.201]), C6a = on(c7, [s.p(M6)[0], null, null]);
+  const M6 = on(c26, [-0.243, null, 0.201]), C6a = on(c7, [s.p(M6)[0], null, null]);
   const C6b = s.near([s.p(K.c4124)[0], -0.221, s.p(M6)[2]]);
-  const TA6 = on(c26, [-0.011, null, 0.486]), TB6 = on(c26, [-0.193, null, 0.486]);
-  const AT6 = on(c26, [-0.207, null, 0.37]);
+  const TA6 = on(c26, [-0.031, null, 0.486]), TB6 = on(c26, [-0.173, null, 0.486]);
+  const AT6 = on(c26, [-0.207, null, 0.385]);
   // Top (y = max): the tab, the fillet, lines to the stepped side and the S-curve.
-  const M7 = on(c33, [-0.263, null, 0.159]), AT7 = on(c33, [-0.207, null, 0.37]);
-  const TA7 = on(c33, [-0.011, null, 0.449]), TB7 = on(c33, [-0.193, null, 0.449]);
-  const C7a = on(c29, [FANDISK_OPTIONS.c7aX ?? s.p(M7)[0], null, null]);
+  const M7 = on(c33, [-0.243, null, 0.159]), AT7 = on(c33, [-0.207, null, 0.385]);
+  const TA7 = on(c33, [-0.031, null, 0.449]), TB7 = on(c33, [-0.173, null, 0.449]);
+  const C7a = on(c29, [FANDISK_OPTIONS.c7aX ?? -0.263, null, null]);
   // The plane z = 0.35 beside the arches: its fillet is the outer arch.
-  const M9 = on(c21, [...(FANDISK_OPTIONS.m9 ?? [0.174, 0.096]), null]), U9 = on(c23, [s.p(M9)[0], null, null]);
+  const M9 = on(c21, [...(FANDISK_OPTIONS.m9 ?? [0.154, 0.096]), null]), U9 = on(c23, [s.p(M9)[0], null, null]);
   const L9 = on(c27, [null, s.p(M9)[1], null]);
   // The big curved face: a line from the inner arch (M0) to the S-curve (Pm).
   const M0 = on(c0, [...(FANDISK_OPTIONS.m0 ?? [0.1, -0.1]), null]), C0t = on(c29, [s.p(M0)[0], null, null]);
   const C28 = on(c28, [null, s.p(M0)[1], null]);
   const c30 = chain(K.c4192, K.c5367), c31 = chain(K.c5331, K.c5526);
   // The belts around the z axis (arch, bottom, side x = min, top, stepped side) at z = 0.06.
-  const P31 = on(c31, [null, null, 0.06]), P30 = on(c30, [null, null, 0.03]);
+  const P31 = on(c31, [null, null, 0.06]), P30 = on(c30, [null, null, 0.05]);
   const X06 = s.near([s.p(K.c4124)[0], -0.2455, 0.06]), X26 = s.near([s.p(M6)[0], -0.2455, 0.06]);
   const P0 = on(c29, [s.p(K.c5598)[0], null, null]);
-  const X7 = s.near([s.p(M7)[0], s.p(M7)[1], 0.015]);
-  // The crescent between the S-curve and the line z = z(T1) on top: three faces around O.
+  const X7 = s.near([s.p(M7)[0], s.p(M7)[1], 0.035]);
+  // The crescent between the S-curve and the line z = z(T1) on top: cut by Lm–Sm (three faces
+  // around O7 would need a T-vertex Tm on the stepped side's top edge, whose belt forces it to zero).
   const o7 = FANDISK_OPTIONS.o7 ?? [0.25, -0.25];
   const O7 = s.near([o7[0], 0.2555, o7[1]]), Tm = on(c22, [null, null, FANDISK_OPTIONS.tmZ ?? -0.29]);
-  const Lm = s.near([FANDISK_OPTIONS.lmX ?? 0.1, 0.2555, s.p(T1)[2]]), Sm = on(c29, [FANDISK_OPTIONS.smX ?? 0.15, null, null]);
-  const Pm = on(c29, [FANDISK_OPTIONS.pmX ?? -0.15, null, null]);
+  const Lm = s.near([FANDISK_OPTIONS.lmX ?? 0.2, 0.2555, s.p(T1)[2]]), Sm = on(c29, [FANDISK_OPTIONS.smX ?? 0.15, null, null]);
+  const Pm = on(c29, [FANDISK_OPTIONS.pmX ?? -0.185, null, null]);
   /** The vertex halfway along a chain (by length). */
   const half = (path) => {
     const d = [0];

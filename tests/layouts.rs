@@ -362,7 +362,7 @@ const SAMPLES: [(&str, usize, usize); 8] = [
     ("bunny-ears", 28, 12),
     ("eight-rims", 12, 8),
     ("fandisk-cube", 6, 0),
-    ("fandisk-features", 36, 16),
+    ("fandisk-features", 37, 18),
     ("mushroom-4", 1, 0),
     ("mushroom-grid", 4, 0),
     ("mushroom-t", 7, 2),
