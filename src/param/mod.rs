@@ -95,7 +95,7 @@ pub const FINAL_ANCHORS: [f64; 2] = [0.1, 0.25];
 /// `ParamSession::without_new_flips`).
 pub const STEP_SHARES: [f64; 2] = [0.5, 0.25];
 
-/// Iterations in a row that keep a shortened step share before it is doubled again (see
+/// Clean iterations in a row (a shortened step share kept, no new flips) before the share is doubled again (see
 /// `ParamSession::without_new_flips`): the share recovers when folds stop, and cannot
 /// shrink towards no step at all over many iterations.
 pub const GROW_AFTER: u32 = 2;
@@ -126,7 +126,7 @@ pub struct ParamSession {
     /// shortened (see [`ParamSession::without_new_flips`]), then the share that was kept,
     /// doubled again after [`GROW_AFTER`] iterations in a row that kept it.
     step_share: f64,
-    /// Iterations in a row whose step was not shortened.
+    /// Iterations in a row that kept the share and flipped no new triangles.
     kept_steps: u32,
     chart_seconds: f64,
 }
@@ -440,7 +440,9 @@ impl ParamSession {
             self.step_share *= best.3;
             self.kept_steps = 0;
         } else {
-            self.kept_steps += 1;
+            // Shorter steps folded as much: the share stays, but this iteration does not
+            // count as a clean one towards growing it again.
+            self.kept_steps = 0;
         }
         Ok((best.0, best.1))
     }
