@@ -95,9 +95,9 @@ pub const FINAL_ANCHORS: [f64; 2] = [0.1, 0.25];
 /// `ParamSession::without_new_flips`).
 pub const STEP_SHARES: [f64; 2] = [0.5, 0.25];
 
-/// Clean iterations in a row (a shortened step share kept, no new flips) before the share is doubled again (see
-/// `ParamSession::without_new_flips`): the share recovers when folds stop, and cannot
-/// shrink towards no step at all over many iterations.
+/// Clean iterations in a row (a shortened step share kept, no new flips) before the share is
+/// doubled again (see `ParamSession::without_new_flips`): the share recovers when folds stop,
+/// and cannot shrink towards no step at all over many iterations.
 pub const GROW_AFTER: u32 = 2;
 
 /// The state of a parameterization: refined mesh, charts, factorizations, history.
