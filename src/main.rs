@@ -5,8 +5,8 @@ use quadlay::clock::now;
 use quadlay::io::{read_mesh_with_resources, write_glb, write_gltf, write_obj, write_ply, Polygons};
 use quadlay::layout::{build_layout, parse_layout, ChartType, Layout, SurfaceLayout};
 use quadlay::param::{input_uv::input_corner_uv, ParamError, ParamOptions, ParamSession};
-use quadlay::quad::{default_edge_length, extract, quality::measure, QuadError, QuadOptions};
-use quadlay::report::{Report, Seconds};
+use quadlay::quad::{default_edge_length, QuadError, QuadOptions};
+use quadlay::report::{extract_and_report, Seconds};
 use quadlay::summary::{LayoutSummary, MeshSummary};
 use std::path::Path;
 use std::process::ExitCode;
@@ -245,18 +245,14 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     let quad_options = QuadOptions::with_edge_length(a.edge_length.unwrap_or_else(|| default_edge_length(mesh)));
     // Every extraction error is the input's: a layout that does not make quads, or an
     // edge length that asks for too many.
-    let (quads, extraction) =
-        extract(&layout, &param, &quad_options).map_err(|e: QuadError| bad_input(format!("{layout_path}: {e}")))?;
-    let t_mesh = now();
-    let quality = measure(mesh, &quads);
-    let seconds = Seconds {
+    let earlier = Seconds {
         load: t_load - t0,
         layout: t_layout - t_load,
         parameterize: t_param - t_layout,
-        mesh: t_mesh - t_param,
-        total: now() - t0,
+        ..Seconds::default()
     };
-    let report = Report::new(mesh, &layout, &param, &quality, &extraction.counts, seconds);
+    let (quads, report) = extract_and_report(mesh, &layout, &param, &quad_options, earlier)
+        .map_err(|e: QuadError| bad_input(format!("{layout_path}: {e}")))?;
 
     let faces: Vec<u32> = quads.quads.iter().flatten().copied().collect();
     if let Some(out) = &a.out {
@@ -287,7 +283,7 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
             "{} quads, {} vertices ({} irregular); distortion {:.4} (max {:.3}, {} flipped triangles); \
              Hausdorff {:.3}% of the diagonal; {:.2} s\n",
             q.faces, q.vertices, q.irregular_vertices, p.distortion_mean, p.distortion_max, p.flipped_triangles,
-            100.0 * q.hausdorff, seconds.total
+            100.0 * q.hausdorff, report.seconds.total
         ))?;
     }
     Ok(())

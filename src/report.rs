@@ -1,10 +1,13 @@
 //! The run report of `quadlay remesh --report` and of the page's `window.quadlay.result`
-//! (shared/spec/cli.md, "Report"): one struct, serialized the same way by both.
+//! (shared/spec/cli.md, "Report"): one struct, serialized the same way by both, and the one
+//! function that extracts, measures and reports for both.
 
+use crate::clock::now;
 use crate::layout::SurfaceLayout;
 use crate::mesh::Mesh;
 use crate::param::ParamSession;
-use crate::quad::quality::Quality;
+use crate::quad::quality::{measure, Quality};
+use crate::quad::{extract, QuadError, QuadMesh, QuadOptions};
 use crate::summary::LayoutSummary;
 use serde::Serialize;
 
@@ -111,4 +114,33 @@ impl Report {
             seconds,
         }
     }
+}
+
+/// The last stage of `quadlay remesh` and of the page's remesh, so that both time and report
+/// it alike: extracts the quad mesh of `param` (paper Section 4), measures it against `mesh`
+/// and gathers the report. `earlier` holds the seconds of loading, layout and
+/// parameterization; `mesh` and `total` are filled in here (`total` counts the quality
+/// measures too).
+///
+/// # Errors
+/// [`QuadError`] from the extraction: a layout that does not make quads, or an edge length
+/// that asks for too many.
+pub fn extract_and_report(
+    mesh: &Mesh,
+    layout: &SurfaceLayout,
+    param: &ParamSession,
+    options: &QuadOptions,
+    earlier: Seconds,
+) -> Result<(QuadMesh, Report), QuadError> {
+    let t0 = now();
+    let (quads, extraction) = extract(layout, param, options)?;
+    let t_mesh = now();
+    let quality = measure(mesh, &quads);
+    let seconds = Seconds {
+        mesh: t_mesh - t0,
+        total: earlier.load + earlier.layout + earlier.parameterize + (now() - t0),
+        ..earlier
+    };
+    let report = Report::new(mesh, layout, param, &quality, &extraction.counts, seconds);
+    Ok((quads, report))
 }

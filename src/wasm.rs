@@ -9,8 +9,8 @@ use crate::layout::{build_layout, curve, parse_layout, ChartType, Layout, Surfac
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
 use crate::param::{ParamOptions, ParamSession};
-use crate::quad::{default_edge_length, extract, quality::measure, QuadMesh, QuadOptions};
-use crate::report::{Report, Seconds};
+use crate::quad::{default_edge_length, QuadMesh, QuadOptions};
+use crate::report::{extract_and_report, Report, Seconds};
 use crate::summary::{LayoutSummary, MeshSummary};
 use serde::{Deserialize, Serialize};
 use wasm_bindgen::prelude::*;
@@ -318,20 +318,10 @@ impl Session {
         let run = self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))?;
         run.quads = None;
         let edge = opts.edge_length.unwrap_or_else(|| default_edge_length(mesh));
-        let t0 = now();
-        let (quads, extraction) =
-            extract(&run.layout, &run.param, &QuadOptions::with_edge_length(edge)).map_err(|e| JsError::new(&e.to_string()))?;
-        let t_mesh = now();
-        let quality = measure(mesh, &quads);
-        let parameterize = run.seconds;
-        let seconds = Seconds {
-            load,
-            layout: layout_seconds,
-            parameterize,
-            mesh: t_mesh - t0,
-            total: load + layout_seconds + parameterize + (now() - t0),
-        };
-        let report = Report::new(mesh, &run.layout, &run.param, &quality, &extraction.counts, seconds);
+        let quad_options = QuadOptions::with_edge_length(edge);
+        let earlier = Seconds { load, layout: layout_seconds, parameterize: run.seconds, ..Seconds::default() };
+        let (quads, report) = extract_and_report(mesh, &run.layout, &run.param, &quad_options, earlier)
+            .map_err(|e| JsError::new(&e.to_string()))?;
         let out = to_js(&report);
         run.quads = Some((quads, report));
         out
