@@ -287,7 +287,7 @@ const FANDISK_DEFAULT = {
   // side's top). The split nodes' positions (M6, M7, TA, TB, AT, P30, X7, M9, Pm, C7a, Lm, Sm)
   // were then tuned by coordinate searches (steps of 0.01 box units, chart types re-chosen after
   // each round) with the same rule, the last one on the mean over edge lengths 0.023, 0.024 and
-  // 0.025 (so that it does not tune to one rounding of the sample counts): from 4.59°, 4.87°,
+  // 0.025 (so that it does not tune to one rounding of the sample counts): from 4.75°, 4.59°,
   // 4.62° to 4.18°, 4.14°, 4.17°.
   patches: [['c900', 'c1081', 'Pm', 'c4745', 'unit'], ['c1078', 'c1358', 'c2012', 'c2366', 'unit'],
     ['c1081', 'c1078', 'X06', 'B0', 'unit'], ['C6a', 'B0', 'X06', 'X26', 'unit'], ['c5526', 'C6a', 'X26', 'P31', 'unit'],

@@ -124,7 +124,7 @@ pub struct ParamSession {
     accelerate: bool,
     /// The share of its chart step an iteration starts from: 1 until a step had to be
     /// shortened (see [`ParamSession::without_new_flips`]), then the share that was kept,
-    /// doubled again after [`GROW_AFTER`] iterations in a row that kept it.
+    /// doubled again after [`GROW_AFTER`] clean iterations in a row.
     step_share: f64,
     /// Iterations in a row that kept the share and flipped no new triangles.
     kept_steps: u32,
@@ -405,7 +405,7 @@ impl ParamSession {
     /// The share kept is where the next iteration starts: a layout whose full steps fold
     /// triangles keeps folding them (bunny-ears' full steps flipped 2, 8 and 16 triangles,
     /// every half step none), and each solve tried in vain costs a factorization. After
-    /// [`GROW_AFTER`] iterations that kept their share it doubles again (at most to 1).
+    /// [`GROW_AFTER`] clean iterations in a row it doubles again (at most to 1).
     fn without_new_flips(
         &mut self,
         start: &[Chart],
@@ -438,12 +438,10 @@ impl ParamSession {
         if best.3 < 1.0 {
             self.anderson.reset();
             self.step_share *= best.3;
-            self.kept_steps = 0;
-        } else {
-            // Shorter steps folded as much: the share stays, but this iteration does not
-            // count as a clean one towards growing it again.
-            self.kept_steps = 0;
         }
+        // Not a clean iteration, whether a shorter step won or all folded as much: it does
+        // not count towards growing the share again.
+        self.kept_steps = 0;
         Ok((best.0, best.1))
     }
 
