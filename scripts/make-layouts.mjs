@@ -279,7 +279,7 @@ const FANDISK_DEFAULT = {
   // rectangle at the stepped side and the thin wedge at C7a, where the line meets the S-curve at
   // about 25° (a quad there must shear; the cut keeps the shear out of the wide part).
   lines: [['c1081', 'Pm'], ['Lm', 'Sm']],
-  // Lines bent through points on the top (x, z; the line's vertex nearest each point): the lines
+  // Lines bent through points on the top (x, z; the mesh vertex nearest each point): the lines
   // from the stepped side (through Lm) and from the fillet (X7) meet the S-curve at C7a, straight at
   // about 25° and 80°, a corner each face there maps to 90°. Bent, they leave C7a nearer square to
   // the S-curve and to each other: the wedge's corner at C7a opens and the fan of quads converging
@@ -312,6 +312,7 @@ function fandisk(s) {
   const f = s.features(30);
   const b = new Builder(s);
   const corners = f.corners.filter((v) => f.adj.get(v).length >= 3);
+  const top = 0.2555; // height (y) of the flat top, for points given by x and z there
   const C = (x, y, z) => s.near([x, y, z], corners);
   /** The feature chain between corners a and b. */
   const chain = (a, b2) => f.chains.find((c) => (c[0] === a && c.at(-1) === b2) || (c[0] === b2 && c.at(-1) === a));
@@ -368,8 +369,8 @@ function fandisk(s) {
   // The crescent between the S-curve and the line z = z(T1) on top: cut by Lm–Sm (three faces
   // around O7 would need a T-vertex Tm on the stepped side's top edge, whose belt forces it to zero).
   const o7 = FANDISK_OPTIONS.o7 ?? [0.25, -0.25];
-  const O7 = s.near([o7[0], 0.2555, o7[1]]), Tm = on(c22, [null, null, FANDISK_OPTIONS.tmZ ?? -0.29]);
-  const Lm = s.near([FANDISK_OPTIONS.lmX ?? 0.2, 0.2555, s.p(T1)[2]]), Sm = on(c29, [FANDISK_OPTIONS.smX ?? 0.14, null, null]);
+  const O7 = s.near([o7[0], top, o7[1]]), Tm = on(c22, [null, null, FANDISK_OPTIONS.tmZ ?? -0.29]);
+  const Lm = s.near([FANDISK_OPTIONS.lmX ?? 0.2, top, s.p(T1)[2]]), Sm = on(c29, [FANDISK_OPTIONS.smX ?? 0.14, null, null]);
   const Pm = on(c29, [FANDISK_OPTIONS.pmX ?? -0.165, null, null]);
   /** The vertex halfway along a chain (by length). */
   const half = (path) => {
@@ -385,7 +386,7 @@ function fandisk(s) {
   for (const name of [...opt.base, ...opt.extra]) b.node(N[name]);
   for (const c of f.chains) if (b.index.has(c[0]) && b.index.has(c.at(-1)) && corners.includes(c[0]) && corners.includes(c.at(-1))) b.chain(c);
   for (const [u, v] of [...opt.baseLines, ...opt.lines]) {
-    const via = (opt.vias[`${u}-${v}`] ?? []).map(([x, z]) => s.near([x, 0.2555, z]));
+    const via = (opt.vias[`${u}-${v}`] ?? []).map(([x, z]) => s.near([x, top, z]));
     b.line(N[u], N[v], { align: opt.alignLines, via });
   }
   for (const [a, b2, c, d, chart] of opt.patches) {
