@@ -1,7 +1,8 @@
 //! The symmetric global system (src/param/system.rs: Dirichlet energy, sparse Cholesky)
 //! against the paper's eq. 3 as written (src/param/eq3.rs: non-symmetric, sparse LU), on the
-//! known answers of tests/param_known_answers.rs and on the sample layouts, with the same
-//! chart-optimization loop. The table of distortions and times is printed
+//! known answers of tests/param_known_answers.rs (the paper's loop) and on the sample layouts
+//! (the loop with the fold guard, as the product runs it), with the same chart-optimization
+//! loop for both. The table of distortions and times is printed
 //! (`cargo test --test param_formulations -- --nocapture`); it is quoted in system.rs's
 //! module doc, where the choice is explained.
 
@@ -26,12 +27,13 @@ struct Run {
     session: ParamSession,
 }
 
-fn run(mesh: &Mesh, layout: &SurfaceLayout, formulation: Formulation, iterations: usize) -> Result<Run, ParamError> {
+/// `guard`: the fold guard of `ParamSession` on (the loop as the product runs it) or off (the
+/// paper's loop as it is).
+fn run(mesh: &Mesh, layout: &SurfaceLayout, formulation: Formulation, iterations: usize, guard: bool) -> Result<Run, ParamError> {
     let t0 = Instant::now();
     let mut options = ParamOptions::default();
     options.formulation = formulation;
-    // The paper's loop as it is: the formulations, not the flip guard, are compared.
-    options.guard_flips = false;
+    options.guard_flips = guard;
     let mut s = ParamSession::new(mesh, layout, &options)?;
     for _ in 0..iterations {
         s.step()?;
@@ -89,16 +91,17 @@ fn cell(d: &Distortion) -> String {
 ///   the symmetric system's mean distortion is at most 2 % above eq. 3's: on most cases the
 ///   two are within 2 % of each other (for given transitions the formulations differ little;
 ///   what differs more is where the chart loop leads), and on bunny-ears' grid layout, with
-///   12 T-vertices, eq. 3 is 25 % higher (0.716 against 0.572).
+///   12 T-vertices, eq. 3 is 12 % higher (457.9 against 410.6) and folds 98 triangles.
 fn compare(
     case: &str,
     mesh: &Mesh,
     layout: &SurfaceLayout,
     iterations: usize,
+    guard: bool,
     failures: &mut Vec<String>,
 ) -> (Run, Result<Run, ParamError>) {
-    let sym = run(mesh, layout, Formulation::Symmetric, iterations).unwrap_or_else(|e| panic!("{case}: symmetric: {e}"));
-    let eq3 = run(mesh, layout, Formulation::Eq3, iterations);
+    let sym = run(mesh, layout, Formulation::Symmetric, iterations, guard).unwrap_or_else(|e| panic!("{case}: symmetric: {e}"));
+    let eq3 = run(mesh, layout, Formulation::Eq3, iterations, guard);
     for (name, r) in [("sym", Ok(&sym)), ("eq3", eq3.as_ref())] {
         match r {
             Ok(r) => {
@@ -176,7 +179,7 @@ fn symmetric_and_eq3_on_the_known_answers() {
     let mut failures = Vec::new();
     for (case, mesh, layout) in known_answers() {
         for iterations in [3, 20, 30] {
-            let (sym, eq3) = compare(case, &mesh, &layout, iterations, &mut failures);
+            let (sym, eq3) = compare(case, &mesh, &layout, iterations, false, &mut failures);
             if iterations == 30 {
                 // The isometric answer: both reach it (as in param_known_answers, 30
                 // iterations; after 20 the planar quad is at 1.9e-8 with both).
@@ -194,6 +197,11 @@ fn symmetric_and_eq3_on_the_known_answers() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
+/// The samples run the loop as the product does, with the fold guard on for both
+/// formulations. Without it some samples fold triangles during the loop (bunny-ears: the
+/// symmetric loop ends with 88 flipped, eq. 3's with 81, at mean distortions 410.5 and
+/// 412.4), and two folded maps' distortions say little about the formulations; the known
+/// answers, which do not fold, run the paper's loop as it is.
 #[test]
 fn symmetric_and_eq3_on_the_sample_layouts() {
     header();
@@ -201,7 +209,7 @@ fn symmetric_and_eq3_on_the_sample_layouts() {
     for (layout_name, mesh_name) in common::SAMPLE_LAYOUTS {
         let mesh = common::load_mesh(mesh_name);
         let layout = common::sample_layout(&mesh, layout_name);
-        let _ = compare(layout_name, &mesh, &layout, 3, &mut failures);
+        let _ = compare(layout_name, &mesh, &layout, 3, true, &mut failures);
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
