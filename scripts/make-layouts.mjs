@@ -13,6 +13,15 @@ import { fileURLToPath } from 'node:url';
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const { Session } = createRequire(import.meta.url)(join(root, 'target/wasm-node/quadlay.js'));
 
+// Vectors in 3D (arrays of three numbers).
+const sub = (a, c) => a.map((x, k) => x - c[k]);
+const dot = (a, c) => a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+const cross = (a, c) => [a[1] * c[2] - a[2] * c[1], a[2] * c[0] - a[0] * c[2], a[0] * c[1] - a[1] * c[0]];
+const unit = (a) => a.map((x) => x / Math.hypot(...a));
+const dist = (a, c) => Math.hypot(...sub(a, c));
+/** The key of the mesh edge between vertices i and j (either order). */
+const edgeKey = (i, j) => (i < j ? `${i},${j}` : `${j},${i}`);
+
 /** A mesh with the geometric queries the recipes use. */
 class Shape {
   constructor(file) {
@@ -61,8 +70,7 @@ class Shape {
     const count = new Map();
     for (let t = 0; t < this.T.length; t += 3) {
       for (let k = 0; k < 3; k++) {
-        const a = this.T[t + k], b = this.T[t + (k + 1) % 3];
-        const key = a < b ? `${a},${b}` : `${b},${a}`;
+        const key = edgeKey(this.T[t + k], this.T[t + (k + 1) % 3]);
         count.set(key, (count.get(key) ?? 0) + 1);
       }
     }
@@ -87,21 +95,18 @@ class Shape {
    * feature vertices, the corners (feature vertices with other than two feature edges) and
    * the chains (vertex paths between corners, or closed loops). */
   features(degrees = 30) {
-    const { T, P } = this;
+    const { T } = this;
     const normal = [];
     for (let t = 0; t < T.length; t += 3) {
       const [a, b, c] = [T[t], T[t + 1], T[t + 2]].map((i) => this.p(i));
-      const u = a.map((x, k) => b[k] - x), v = a.map((x, k) => c[k] - x);
-      const n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+      const n = cross(sub(b, a), sub(c, a));
       const l = Math.hypot(...n) || 1;
       normal.push(n.map((x) => x / l));
     }
-    void P;
     const faces = new Map();
     for (let t = 0; t < T.length; t += 3) {
       for (let k = 0; k < 3; k++) {
-        const a = T[t + k], b = T[t + (k + 1) % 3];
-        const key = a < b ? `${a},${b}` : `${b},${a}`;
+        const key = edgeKey(T[t + k], T[t + (k + 1) % 3]);
         if (!faces.has(key)) faces.set(key, []);
         faces.get(key).push(t / 3);
       }
@@ -402,11 +407,6 @@ function fandisk(s) {
  * each tube face carries up to the piece opposite, so the tube's quads keep their shape; the ring
  * is turned to where its nodes best face the base's nodes. */
 function earRing(s, root, tip, t, base, shares) {
-  const sub = (a, c) => a.map((x, k) => x - c[k]);
-  const dot = (a, c) => a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
-  const cross = (a, c) => [a[1] * c[2] - a[2] * c[1], a[2] * c[0] - a[0] * c[2], a[0] * c[1] - a[1] * c[0]];
-  const unit = (a) => a.map((x) => x / Math.hypot(...a));
-  const dist = (a, c) => Math.hypot(...sub(a, c));
   const wrap = (x) => Math.atan2(Math.sin(x), Math.cos(x));
   const r = root.map((x, k) => s.center[k] + x * s.half[k]), e = s.p(tip);
   const axis = unit(sub(e, r));
@@ -452,17 +452,16 @@ function earRing(s, root, tip, t, base, shares) {
 /** The section of the mesh by the plane through `c` with normal `n`: its closed loops, each a list
  * of [point, the mesh vertex nearest it among the cut edge's two ends]. */
 function section(s, c, n) {
-  const side = (i) => s.p(i).reduce((acc, x, k) => acc + (x - c[k]) * n[k], 0);
-  const key = (i, j) => (i < j ? `${i},${j}` : `${j},${i}`);
+  const side = (i) => dot(sub(s.p(i), c), n);
   const cut = new Map(); // cut edge -> [point, nearer vertex, the cut edges it joins through triangles]
   for (let t = 0; t < s.T.length; t += 3) {
     const keys = [];
     for (let k = 0; k < 3; k++) {
       const i = s.T[t + k], j = s.T[t + (k + 1) % 3], hi = side(i), hj = side(j);
       if ((hi < 0) === (hj < 0)) continue;
-      const w = hi / (hi - hj);
-      if (!cut.has(key(i, j))) cut.set(key(i, j), [s.p(i).map((x, m) => x + w * (s.p(j)[m] - x)), w < 0.5 ? i : j, []]);
-      keys.push(key(i, j));
+      const w = hi / (hi - hj), key = edgeKey(i, j);
+      if (!cut.has(key)) cut.set(key, [s.p(i).map((x, m) => x + w * (s.p(j)[m] - x)), w < 0.5 ? i : j, []]);
+      keys.push(key);
     }
     if (keys.length === 2) {
       cut.get(keys[0])[2].push(keys[1]);
