@@ -509,7 +509,7 @@ impl System {
         self.times.assembly += t1 - t0;
         let mut solver = SpdSolver::new(self.n_unknowns, &entries)?;
         let p = &mut self.pattern;
-        p.slot = solver.slots().iter().map(|&s| s as u32).collect();
+        p.slot = solver.slots().to_vec();
         p.constant = vec![0.0; p.slot.iter().map(|&s| s as usize + 1).max().unwrap_or(0)];
         let mut varying = p.varying.iter().peekable();
         for t in 0..exprs.len() {
