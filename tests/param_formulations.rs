@@ -91,7 +91,7 @@ fn cell(d: &Distortion) -> String {
 ///   the symmetric system's mean distortion is at most 2 % above eq. 3's: on most cases the
 ///   two are within 2 % of each other (for given transitions the formulations differ little;
 ///   what differs more is where the chart loop leads), and on bunny-ears' grid layout, with
-///   12 T-vertices, eq. 3 is 12 % higher (457.9 against 410.6) and folds 98 triangles.
+///   12 T-vertices, eq. 3 is 7 % higher (180.7 against 168.5) and folds 57 triangles.
 fn compare(
     case: &str,
     mesh: &Mesh,
@@ -199,8 +199,8 @@ fn symmetric_and_eq3_on_the_known_answers() {
 
 /// The samples run the loop as the product does, with the fold guard on for both
 /// formulations. Without it some samples fold triangles during the loop (bunny-ears: the
-/// symmetric loop ends with 88 flipped, eq. 3's with 81, at mean distortions 410.5 and
-/// 412.4), and two folded maps' distortions say little about the formulations; the known
+/// symmetric loop ends with 50 flipped, eq. 3's with 48, at mean distortions 168.3 and
+/// 168.6), and two folded maps' distortions say little about the formulations; the known
 /// answers, which do not fold, run the paper's loop as it is.
 #[test]
 fn symmetric_and_eq3_on_the_sample_layouts() {

@@ -43,7 +43,7 @@
 //! | fandisk-cube  |  3  | 0.3098 / 0      | 0.3239 / 7   | 0.3098 / 0       | 0.3239 / 7   | 0.31 / 1.21    |
 //! | fandisk-features | 3 | 13.25 / 0      | 13.33 / 0    | 13.25 / 0        | 13.33 / 0    | 0.14 / 0.71    |
 //! | bunny-cube    |  3  | 0.5317 / 0      | 0.5288 / 0   | 0.4902 / 0       | 0.4899 / 3   | 1.64 / 8.54    |
-//! | bunny-ears    |  3  | 410.6 / 0       | 412.4 / 81   | 410.6 / 0        | 412.4 / 81   | 0.93 / 9.65    |
+//! | bunny-ears    |  3  | 168.5 / 0       | 168.6 / 48   | 168.5 / 0        | 168.6 / 48   | 0.75 / 6.39    |
 //!
 //! After 20 iterations the known answers are at 1.9e-8 (planar quad, both), 1.6e-13 / 5.2e-14
 //! (2×2) and 8.0e-20 / 1.6e-18 (cube): both formulations reach the isometries, and below 1e-9
@@ -55,19 +55,19 @@
 //!   on seven of the eight samples (fandisk 4.4 %, eight-rims 1.1 %, mushroom-t 1.0 % lower),
 //!   0.55 % higher on bunny-cube; and
 //!   it flips no more triangles (eq. 3: 27 flipped on mushroom-t at iteration 0, whose
-//!   T-vertex pieces scale even between unit charts, 7 on fandisk after the loop, 111 on
-//!   bunny-ears' unit charts and 81 after its loop);
+//!   T-vertex pieces scale even between unit charts, 7 on fandisk after the loop, 57 on
+//!   bunny-ears' unit charts and 48 after its loop);
 //! - solved once with the same charts the two differ by at most 1.2 % (fandisk 0.3098 vs
 //!   0.3082, bunny 0.5317 vs 0.5285, eight-rims 0.2125 vs 0.2150): the formulation matters
 //!   less than where the chart loop leads; the exception is bunny-ears' grid layout (12
-//!   T-vertices), where eq. 3 is 12 % higher (457.9 against the symmetric 410.6);
+//!   T-vertices), where eq. 3 is 7 % higher (180.7 against the symmetric 168.5);
 //! - it is symmetric positive definite: Cholesky with the symbolic factorization kept across
 //!   solves, 3–9× faster per run than eq. 3's LU (symbolic analysis redone per solve).
 //!
 //! Without the fold guard (the paper's loop as it is) the symmetric map of mushroom-t's final
 //! solve, which releases its untagged curves, ends 3.2 % above eq. 3's, both folding (10
-//! against 8), and bunny-ears' loop folds 88 triangles against eq. 3's 81 (mean 410.5 against
-//! 412.4): two folded maps, whose distortions say little about the formulations.
+//! against 8), and bunny-ears' loop folds 50 triangles against eq. 3's 48 (mean 168.3 against
+//! 168.6): two folded maps, whose distortions say little about the formulations.
 
 use super::cut::CutMesh;
 use super::transition::Affine;
