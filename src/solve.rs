@@ -48,8 +48,8 @@ use faer::{Conj, MatMut, Par, Side};
 
 /// The index type of the pattern, the ordering and the factor: four bytes rather than `usize`'s
 /// eight natively (in wasm32 they are the same). The ordering walks index arrays; with indices
-/// half the size, faer's AMD on bunny_28k's system (59,000 unknowns) took 56–93 ms instead of
-/// 112–145 ms. A factor that would need more stored values than `u32` counts is reported as
+/// half the size, faer's AMD ordering and symbolic factorization of bunny_28k's system (59,000
+/// unknowns) took 56–93 ms instead of 112–145 ms. A factor that would need more stored values than `u32` counts is reported as
 /// [`SolveError::IndexOverflow`].
 type Ix = u32;
 
