@@ -380,7 +380,7 @@ function fandisk(s) {
   /** The vertex halfway along a chain (by length). */
   const half = (path) => {
     const d = [0];
-    for (let k = 1; k < path.length; k++) d.push(d[k - 1] + Math.hypot(...s.p(path[k]).map((x, j) => x - s.p(path[k - 1])[j])));
+    for (let k = 1; k < path.length; k++) d.push(d[k - 1] + dist(s.p(path[k]), s.p(path[k - 1])));
     return path[d.findIndex((x) => x >= d.at(-1) / 2)];
   };
   // The middles of the arches' arcs, for a radial line across the arches.
@@ -591,9 +591,10 @@ const BUNNY_DEFAULT = {
   // distance stayed under 1.38 % and nothing flipped, with 1° added per chart step beyond the first
   // that folded triangles and had to be shortened (each costs a factorization; this choice folds
   // once and keeps the 5 factorizations of 3 iterations). The face behind the back ear, from
-  // ab2 down to the back's top (L4, ab2, B1, tbl), must be a general quad: its corner at ab2, in the
-  // saddle around the ear's root, is far wider than 90°, and a rectangle squeezed the grid there
-  // into quads seven edge lengths long (1.67 % from the input).
+  // ab2 down to the back's top (L4, ab2, B1, tbl), must be a general quad: its corner at ab2, on
+  // the ear's root, is far narrower than 90° (7° on the surface: the curves to L4 and B1 leave ab2
+  // almost together), and a rectangle squeezed the grid there into quads seven edge lengths long
+  // (1.67 % from the input).
   chart: 'rect',
   patches: [
     ['bfl', 'bfr', 'tfr', 'tfl', 'unit'], ['bbl', 'bfl', 'tfl', 'tbl', 'rect'],
