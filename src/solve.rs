@@ -41,7 +41,7 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
-    SymmetricOrdering,
+    SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
@@ -434,6 +434,10 @@ impl SpdSolver {
         if self.n == 0 {
             return Ok(());
         }
+        if let SymbolicCholeskyRaw::Supernodal(supernodal) = self.symbolic.raw() {
+            solve_supernodal(supernodal, self.symbolic.perm(), &self.l_values, b);
+            return Ok(());
+        }
         // Small (O(n)) and needed because `self` is shared: allocate per solve.
         let mut mem = MemBuffer::try_new(self.solve_req).map_err(|_| SolveError::OutOfMemory)?;
         let llt = LltRef::<'_, Ix, f64>::new(&self.symbolic, &self.l_values);
@@ -461,6 +465,74 @@ impl SpdSolver {
     /// [`SpdSolver::solve_in_place`] can be used.
     pub fn is_factored(&self) -> bool {
         self.factored
+    }
+}
+
+/// Solves $L L^\top y = b$ in place for a supernodal factor, with $b$ and $y$ in the original
+/// order (`perm` maps them to the factor's).
+///
+/// faer's own solve does the same through its dense kernels, one triangular solve and one
+/// matrix product per supernode; the supernodes of a surface mesh's factor are mostly a few
+/// columns wide, and those calls cost more than the arithmetic. bunny_28k's system, 5 solves:
+/// 74.2 → 57.8 ms natively (means of 5 alternating runs), 104 → 67–78 ms in wasm.
+fn solve_supernodal(
+    symbolic: &faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<Ix>,
+    perm: Option<faer::perm::PermRef<'_, Ix>>,
+    l_values: &[f64],
+    b: &mut [f64],
+) {
+    let mut x: Vec<f64> = match perm {
+        Some(p) => p.arrays().0.iter().map(|&i| b[i as usize]).collect(),
+        None => b.to_vec(),
+    };
+    let val_start = symbolic.col_ptr_for_val();
+    // Each supernode: columns start..start + w, stored column-major with the w rows of its
+    // diagonal block first and then one row per entry of its pattern.
+    let block = |s: usize| {
+        let sn = symbolic.supernode(s);
+        let w = (symbolic.supernode_end()[s] - symbolic.supernode_begin()[s]) as usize;
+        let values = &l_values[val_start[s] as usize..val_start[s + 1] as usize];
+        (sn.start(), w, sn.pattern(), values)
+    };
+    // Forward: L y = P b.
+    for s in 0..symbolic.n_supernodes() {
+        let (start, w, pattern, values) = block(s);
+        let m = w + pattern.len();
+        for j in 0..w {
+            let column = &values[j * m..(j + 1) * m];
+            let xj = x[start + j] / column[j];
+            x[start + j] = xj;
+            for i in j + 1..w {
+                x[start + i] -= column[i] * xj;
+            }
+            for (&r, &l) in pattern.iter().zip(&column[w..]) {
+                x[r as usize] -= l * xj;
+            }
+        }
+    }
+    // Backward: Lᵀ (P x) = y.
+    for s in (0..symbolic.n_supernodes()).rev() {
+        let (start, w, pattern, values) = block(s);
+        let m = w + pattern.len();
+        for j in (0..w).rev() {
+            let column = &values[j * m..(j + 1) * m];
+            let mut t = x[start + j];
+            for i in j + 1..w {
+                t -= column[i] * x[start + i];
+            }
+            for (&r, &l) in pattern.iter().zip(&column[w..]) {
+                t -= l * x[r as usize];
+            }
+            x[start + j] = t / column[j];
+        }
+    }
+    match perm {
+        Some(p) => {
+            for (&i, &xi) in p.arrays().0.iter().zip(&x) {
+                b[i as usize] = xi;
+            }
+        }
+        None => b.copy_from_slice(&x),
     }
 }
 
@@ -606,6 +678,26 @@ mod tests {
         assert!(norm(&err) / norm(&x_true) < 1e-10);
         // AMD keeps the fill far below the dense n²/2.
         assert!(solver.factor_nnz() < 40 * n, "fill {}", solver.factor_nnz());
+    }
+
+    /// Our triangular solves on a supernodal factor against faer's own on the same factor.
+    #[test]
+    fn supernodal_solve_matches_faers() {
+        // Large enough for faer to choose the supernodal factorization.
+        let (n, entries, values) = grid_laplacian(200, 150, 0.1);
+        let mut solver = SpdSolver::new(n, &entries).unwrap();
+        solver.factor(&values).unwrap();
+        assert!(matches!(solver.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_)));
+        let b: Vec<f64> = (0..n).map(|i| ((i * 37) % 11) as f64 - 5.0).collect();
+        let mut ours = b.clone();
+        solver.solve_in_place(&mut ours).unwrap();
+        let mut faers = b;
+        let llt = LltRef::<'_, Ix, f64>::new(&solver.symbolic, &solver.l_values);
+        let mut mem = MemBuffer::new(solver.solve_req);
+        llt.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(&mut faers, n, 1), Par::Seq, MemStack::new(&mut mem));
+        let scale = faers.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let diff = ours.iter().zip(&faers).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff <= 1e-12 * scale, "largest difference {diff:e} against {scale:e}");
     }
 
     #[test]
