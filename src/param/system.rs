@@ -281,8 +281,9 @@ pub struct System {
 /// them on bunny-ears), straight into the matrix's stored values.
 #[derive(Default)]
 struct Pattern {
-    /// Per candidate entry, in assembly order: whether the pattern has it as an entry of its
-    /// own (off the diagonal; a diagonal term of unknown i goes to `slot[i]`).
+    /// Per candidate entry of the varying triangles, in assembly order: whether the pattern
+    /// has it as an entry of its own (off the diagonal; a diagonal term of unknown i goes to
+    /// `slot[i]`).
     keep: Vec<bool>,
     /// Per triangle (and one past the last): its first candidate, its first kept entry.
     candidate_start: Vec<u32>,
@@ -474,10 +475,11 @@ impl System {
         // Afresh: a first solve whose factorization failed left a partial pattern.
         self.pattern = Pattern::default();
         let p = &mut self.pattern;
-        // At most 30 candidates per triangle (3 edges, 2 vertices, 2 unknowns each, lower
-        // half); reserved up front, as growing these arrays costs as much as filling them.
+        // At most 30 candidates per varying triangle (3 edges, 2 vertices, 2 unknowns each,
+        // lower half), for a quarter of the triangles (a tenth on bunny-ears); reserved up
+        // front, as growing these arrays costs as much as filling them.
         let n = exprs.len();
-        p.keep.reserve(30 * n);
+        p.keep.reserve(30 * n / 4);
         p.candidate_start.reserve(n + 1);
         p.value_start.reserve(n + 1);
         // The diagonal first, one entry per unknown (slot i is unknown i's diagonal), summed
@@ -496,18 +498,32 @@ impl System {
                 let v = v as usize;
                 matches!(self.vars[v], Var::Free(_)) && cut.vertex_curve[v] == NONE
             });
-            if !interior {
-                p.varying.push(t as u32);
+            if interior {
+                // Every vertex its own unknowns (`m = I`, `b = 0`): each edge couples u with u
+                // and v with v only and adds nothing to the right-hand side. Written out, nine
+                // triangles in ten skip the general terms' products and pattern tests; later
+                // solves never visit them, so they have no candidates.
+                let index = ex.map(|e| e.index());
+                for k in 0..3 {
+                    let (a, b, w) = (index[(k + 1) % 3], index[(k + 2) % 3], weights[t][k]);
+                    for c in 0..2 {
+                        for d in [a + c, b + c] {
+                            values[d as usize] += w;
+                            constant_diagonal[d as usize] += w;
+                        }
+                        entries.push((a.max(b) + c, a.min(b) + c));
+                        values.push(-w);
+                    }
+                }
+                continue;
             }
+            p.varying.push(t as u32);
             let turns = may_turn(cut, &self.general, t);
             triangle_terms(ex, &weights[t], Some(turns), rhs, |row, col, value, keep| {
                 let diagonal = row == col;
                 p.keep.push(keep && !diagonal);
                 if diagonal {
                     values[row as usize] += value;
-                    if interior {
-                        constant_diagonal[row as usize] += value;
-                    }
                 } else if keep {
                     entries.push((row, col));
                     values.push(value);
