@@ -183,6 +183,12 @@ export function deletePatch(doc, k) {
   return next;
 }
 
+/** The edge index of a curve's source (`edges[3]` → 3); a boundary piece → -1. */
+export function edgeIndex(source) {
+  const m = /^edges\[(\d+)\]$/.exec(source);
+  return m ? Number(m[1]) : -1;
+}
+
 /**
  * What the core's error text names, for drawing it on the mesh:
  * { nodes, edges, patches, vertices, points } (indices; points as [x, y, z]).

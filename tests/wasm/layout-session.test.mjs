@@ -1,0 +1,184 @@
+// The layout editor's session (www/layout-session.js) in Node, against the wasm core the page
+// uses: edits checked by the core, undo and redo, the latest of quick edits checked, the
+// autosave offered and restored on the same mesh, the culprits of the core's error, a chart
+// type on a face an edit removed dropped with that edit, and a core that lost its mesh.
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { test } from 'node:test';
+import * as L from '../../www/layout-doc.js';
+import { LayoutSession } from '../../www/layout-session.js';
+
+const require = createRequire(import.meta.url);
+const { Session } = require('../../target/wasm-node/quadlay.js');
+const bytes = new Uint8Array(readFileSync(new URL('../../../shared/meshes/mushroom.obj', import.meta.url)));
+
+/** The mushroom's four boundary corners and its top (see tests/e2e/editor.test.mjs). */
+const CORNERS = [147, 151, 139, 143];
+const TOP = 16;
+
+/** The browser's localStorage, as far as autosave.js uses it. */
+class MemoryStorage {
+  constructor() { this.items = new Map(); }
+  getItem(key) { return this.items.has(key) ? this.items.get(key) : null; }
+  setItem(key, value) { this.items.set(key, String(value)); }
+  removeItem(key) { this.items.delete(key); }
+}
+
+/** The core as the worker holds it, answering like client.js (a promise per request). */
+function core() {
+  const session = new Session(bytes, 'mushroom.obj');
+  const mesh = { positions: session.positions(), triangles: session.triangles(), summary: session.summary() };
+  const client = {
+    requests: 0,
+    async setLayout(text) {
+      this.requests++;
+      await new Promise((ok) => setTimeout(ok, 1));
+      return session.setLayout(text);
+    },
+  };
+  return { mesh, client };
+}
+
+/** A session on the mushroom; `updates` lists what it reported. */
+function open({ client, mesh } = core(), options = {}) {
+  const updates = [];
+  const s = new LayoutSession({ client, onUpdate: (what) => updates.push(what), ...options });
+  s.setMesh(mesh, 'mushroom.obj');
+  return { s, updates, client, mesh };
+}
+
+const fourCorners = () => CORNERS.reduce((doc, v) => L.addNode(doc, v)[0], L.emptyDoc());
+/** Two faces: the corners, the top, and edges from two opposite corners to the top. */
+function twoFaces(doc = fourCorners()) {
+  let top;
+  [doc, top] = L.addNode(doc, TOP);
+  doc = L.addEdge(doc, 0, top)[0];
+  return L.addEdge(doc, top, 2)[0];
+}
+
+test('edits are checked by the core; undo and redo walk them', async () => {
+  globalThis.localStorage = new MemoryStorage();
+  const { s, updates } = open();
+  assert.equal(s.layoutName, 'mushroom.layout.json');
+  assert.equal(s.offer, null);
+
+  let doc = fourCorners();
+  await s.apply(doc, { label: 'add node' });
+  assert.equal(s.checking, false);
+  assert.equal(s.error, null);
+  assert.equal(s.view.summary.faces, 1);
+  assert.deepEqual(s.nodeVertex, CORNERS);
+
+  // A node inside the face, joined to nothing: the core names it.
+  [doc] = L.addNode(doc, TOP);
+  const pending = s.apply(doc, { label: 'add node' });
+  assert.equal(s.checking, true);
+  assert.equal(s.view, null, 'the old verdict is dropped at once');
+  await pending;
+  assert.equal(s.view, null);
+  assert.match(s.error, /nodes\[4\]/);
+  assert.deepEqual([...s.problem.nodes], [4]);
+
+  assert.equal(s.history.undoLabel, 'add node');
+  assert.ok(s.undo());
+  await s.settled();
+  assert.equal(s.doc.nodes.length, 4);
+  assert.equal(s.view.summary.faces, 1);
+  assert.equal(s.problem.nodes.size, 0);
+  assert.ok(s.redo());
+  await s.settled();
+  assert.equal(s.doc, doc);
+  assert.deepEqual([...s.problem.nodes], [4]);
+  assert.equal(s.redo(), false);
+  assert.deepEqual(updates.filter((u) => u !== 'edit'), ['mesh', 'checked', 'checked', 'checked', 'checked']);
+});
+
+test('edits made while the core is busy: only the latest is checked next', async () => {
+  globalThis.localStorage = new MemoryStorage();
+  const { s, client } = open();
+  let doc = L.emptyDoc();
+  const done = [];
+  for (const v of CORNERS) {
+    [doc] = L.addNode(doc, v);
+    done.push(s.apply(doc, { label: 'add node' }));
+  }
+  await Promise.all(done);
+  // The first edit went at once; the three made meanwhile wait, and only the last goes.
+  assert.equal(client.requests, 2);
+  assert.equal(s.view.summary.faces, 1);
+  assert.equal(s.history.states.length, 5, 'every edit is a step of the history');
+});
+
+test('the autosaved layout is offered on the same mesh, restored as an undoable step', async () => {
+  globalThis.localStorage = new MemoryStorage();
+  const c = core();
+  const first = open(c).s;
+  const doc = fourCorners();
+  await first.apply(doc);
+  // A reload: a new session on the same mesh.
+  const { s, updates } = open(c);
+  assert.deepEqual(s.offer.doc, doc);
+  assert.ok(Number.isFinite(s.offer.time));
+  assert.deepEqual(s.doc, L.emptyDoc());
+  await s.answerOffer(true);
+  assert.equal(s.offer, null);
+  assert.ok(updates.includes('offer'));
+  assert.deepEqual(s.doc, doc);
+  assert.equal(s.view.summary.faces, 1);
+  assert.equal(s.history.undoLabel, 'restore');
+
+  // Discarded with nothing drawn: the saved layout is forgotten.
+  const again = open(c).s;
+  assert.ok(again.offer);
+  again.answerOffer(false);
+  assert.equal(open(c).s.offer, null);
+  // Another mesh (another name) has its own.
+  const other = new LayoutSession({ client: c.client });
+  other.setMesh(c.mesh, 'other.obj');
+  assert.equal(other.offer, null);
+});
+
+test('a chart type on a face an edit removed goes with that edit', async () => {
+  globalThis.localStorage = new MemoryStorage();
+  const { s } = open();
+  await s.apply(fourCorners());
+  const corners = s.view.summary.face_list[0].corners;
+  await s.apply(L.setChart(s.doc, corners, 'rect'), { label: 'chart rect' });
+  assert.deepEqual(s.view.summary.charts, [0, 1, 0]);
+  // Splitting the face in two: the patches entry names no face any more.
+  await s.apply(twoFaces(s.doc), { label: 'add edge' });
+  assert.equal(s.error, null);
+  assert.equal(s.doc.patches, undefined);
+  assert.equal(s.view.summary.faces, 2);
+  assert.equal(s.history.undoLabel, 'add edge');
+  s.undo();
+  await s.settled();
+  assert.equal(s.doc.patches.length, 1, 'undo brings the chart type back with the face');
+});
+
+test('a core that lost the mesh: the session asks for it again and keeps the document', async () => {
+  globalThis.localStorage = new MemoryStorage();
+  const c = core();
+  let lost = 0;
+  const { s } = open(c, { onCoreLost: () => lost++ });
+  await s.apply(fourCorners());
+  const doc = s.doc;
+  // The worker restarted without a mesh: it refuses layouts.
+  const working = c.client.setLayout;
+  c.client.setLayout = async () => {
+    throw new Error('load a mesh before a layout');
+  };
+  await s.apply(twoFaces(doc), { label: 'add edge' });
+  assert.equal(lost, 1);
+  assert.match(s.error, /restarts/);
+  // The page loads the mesh again: the session places its document once more.
+  c.client.setLayout = working;
+  const edited = s.doc;
+  s.setMesh(c.mesh, 'mushroom.obj');
+  await s.settled();
+  assert.equal(s.doc, edited);
+  assert.equal(s.error, null);
+  assert.equal(s.view.summary.faces, 2);
+  assert.equal(s.history.undoLabel, 'add edge');
+});
