@@ -225,13 +225,16 @@ export class LayoutSession {
     // Once the user works on, an unanswered offer still holds the older layout in memory.
   }
 
-  /** Answers the restore offer: restore brings the saved layout back (an undoable step). */
-  answerOffer(restore) {
+  /**
+   * Answers the restore offer: restore brings the saved layout back (an undoable step;
+   * resolves once the core has checked it), discard forgets it unless the user drew since.
+   */
+  async answerOffer(restore) {
     const saved = this.offer;
     this.offer = null;
     this.onUpdate('offer');
     if (!saved) return;
-    if (restore) this.apply(saved.doc, { label: 'restore' });
+    if (restore) await this.apply(saved.doc, { label: 'restore' });
     else if (!this.history.canUndo) this.store.removeSaved(this.storageKey);
   }
 
