@@ -29,7 +29,8 @@
 //! through; vertices of positive curvature (θ < 2π) never are. Along the straight sharp
 //! feature lines of CAD meshes both sides measure π: the curve runs through their vertices.
 
-use crate::mesh::geometry::{cross, dot, norm, sub};
+use crate::geom::{angle2, cross, dist2, dot, norm, orient2, sub, sub2, Vec2, SNAP};
+use crate::mesh::geometry::corner_angle;
 use crate::mesh::{Mesh, NONE};
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap, HashSet};
@@ -105,10 +106,6 @@ impl fmt::Display for CurveError {
 
 impl std::error::Error for CurveError {}
 
-/// Crossings within this fraction of an edge's length from one of its ends are recorded as
-/// that vertex (method-notes §0: "a crossing with t within a tiny tolerance of 0 or 1 is a
-/// run-through vertex").
-pub const SNAP: f64 = 1e-9;
 
 /// A pivot is rerouted only if the angle on its other side is below π by more than this.
 /// Smaller deficits shorten the path by a relative amount of order deficit² (< 1e-18):
@@ -318,14 +315,6 @@ fn leaving(mesh: &Mesh, f: u32, v: u32) -> u32 {
     NONE
 }
 
-/// Angle of `face(h)` at the vertex `h` leaves.
-fn corner_angle(mesh: &Mesh, h: u32) -> f64 {
-    let o = mesh.position(mesh.from_vertex(h));
-    let a = sub(mesh.position(mesh.to_vertex(h)), o);
-    let b = sub(mesh.position(mesh.from_vertex(mesh.prev(h))), o);
-    norm(cross(a, b)).atan2(dot(a, b))
-}
-
 /// Total angle around `v`: the sum of its corner angles.
 fn angle_sum(mesh: &Mesh, v: u32) -> f64 {
     mesh.outgoing(v).filter(|&h| mesh.face(h) != NONE).map(|h| corner_angle(mesh, h)).sum()
@@ -402,20 +391,7 @@ fn initial_strip(mesh: &Mesh, path: &[u32]) -> Option<Strip> {
 // ---------------------------------------------------------------------------------------
 // Step 3: unfolding and the funnel.
 
-type P2 = [f64; 2];
-
-/// Twice the signed area of (o, a, b): positive when b lies left of the ray o→a.
-fn orient(o: P2, a: P2, b: P2) -> f64 {
-    (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-}
-
-fn angle2(a: P2, b: P2) -> f64 {
-    (a[0] * b[1] - a[1] * b[0]).abs().atan2(a[0] * b[0] + a[1] * b[1])
-}
-
-fn dist2(a: P2, b: P2) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
+type P2 = Vec2;
 
 /// A strip vertex as unfolded: the mesh vertex and its place in the plane. A mesh vertex the
 /// strip passes twice gets two places; consecutive portals share their common vertex's
@@ -540,8 +516,8 @@ fn funnel(portals: &[Portal]) -> Option<Vec<Pivot>> {
         // Right side of the funnel.
         if r == apex {
             (right, ri) = (apex, i);
-        } else if right == apex || orient(apex.p, right.p, r.p) >= 0.0 {
-            if left == apex || orient(apex.p, left.p, r.p) < 0.0 {
+        } else if right == apex || orient2(apex.p, right.p, r.p) >= 0.0 {
+            if left == apex || orient2(apex.p, left.p, r.p) < 0.0 {
                 (right, ri) = (r, i);
             } else {
                 // r reaches over the left side: the path bends at `left`.
@@ -558,8 +534,8 @@ fn funnel(portals: &[Portal]) -> Option<Vec<Pivot>> {
         // Left side.
         if l == apex {
             (left, li) = (apex, i);
-        } else if left == apex || orient(apex.p, left.p, l.p) <= 0.0 {
-            if right == apex || orient(apex.p, right.p, l.p) > 0.0 {
+        } else if left == apex || orient2(apex.p, left.p, l.p) <= 0.0 {
+            if right == apex || orient2(apex.p, right.p, l.p) > 0.0 {
                 (left, li) = (l, i);
             } else {
                 if right == end {
@@ -629,7 +605,7 @@ fn reroutes(mesh: &Mesh, portals: &[Portal], pivots: &[Pivot], s: u32, t: u32) -
         // The angle on the strip's side, from the incoming segment over the run's spokes to
         // the outgoing one; each step stays inside one strip triangle, so the steps add up.
         let o = pv.node.p;
-        let dir = |p: P2| [p[0] - o[0], p[1] - o[1]];
+        let dir = |p: P2| sub2(p, o);
         let mut previous = dir(pivots[k - 1].node.p);
         let mut beta = 0.0;
         for portal in &portals[pv.run.0..=pv.run.1] {
@@ -731,8 +707,8 @@ fn crossing(mesh: &Mesh, h: u32, portal: &Portal, a: P2, b: P2) -> Vec<CurvePoin
     let Portal { l, r } = *portal;
     // Signed distances (times |b - a|) of the portal's ends from the line through a, b:
     // l lies on the left, r on the right.
-    let dl = orient(a, b, l.p);
-    let dr = orient(a, b, r.p);
+    let dl = orient2(a, b, l.p);
+    let dr = orient2(a, b, r.p);
     let tol = SNAP * dist2(l.p, r.p) * dist2(a, b);
     let near_l = dl.abs() <= tol;
     let near_r = dr.abs() <= tol;
@@ -837,8 +813,8 @@ fn geodesic_leg(mesh: &Mesh, s: u32, t: u32, blocked: &[bool]) -> Result<Vec<Cur
 // Meeting curves.
 
 /// Tolerance on edge parameters and triangle perimeter positions when comparing points of
-/// two curves; matches [`SNAP`].
-const MEET_TOL: f64 = 1e-9;
+/// two curves: the crossings' own.
+const MEET_TOL: f64 = SNAP;
 
 /// Where two curves meet away from the vertices they may share (`shared`, typically the
 /// layout nodes both curves end at): `None` if they don't (method-notes §0: curves may meet
@@ -1040,8 +1016,8 @@ fn chords_meet(
         [p[0] + u * (q[0] - p[0]), p[1] + u * (q[1] - p[1])]
     };
     let (p, q, r, s) = (flat(a0), flat(a1), flat(b0), flat(b1));
-    let d1 = orient(r, s, p);
-    let d2 = orient(r, s, q);
+    let d1 = orient2(r, s, p);
+    let d2 = orient2(r, s, q);
     let lambda = if d1 != d2 { (d1 / (d1 - d2)).clamp(0.0, 1.0) } else { 0.5 };
     let (x, y) = (position(mesh, &a.0), position(mesh, &a.1));
     Some(std::array::from_fn(|k| x[k] + lambda * (y[k] - x[k])))
@@ -1384,7 +1360,7 @@ mod tests {
         for p in &c.points {
             let x = position(&m, p);
             let flat = if (x[2] - 1.0).abs() < 1e-12 { [x[0], x[1]] } else { [x[0], x[2] - 1.0] };
-            assert!(orient(a, b, flat).abs() / dist2(a, b) < 1e-9, "{x:?} off the line");
+            assert!(orient2(a, b, flat).abs() / dist2(a, b) < 1e-9, "{x:?} off the line");
         }
         // Across the cube's corner region the same holds in the other direction.
         let c2 = trace_curve(&m, &[t, s], &[]).unwrap();

@@ -9,7 +9,8 @@
 //! the left of every curve piece it runs along, so its node cycle is counter-clockwise.
 
 use super::curve::{Curve, CurvePoint};
-use crate::mesh::geometry::{cross, dot, norm, sub};
+use crate::geom::{angle, sub};
+use crate::mesh::geometry::corner_angle;
 use crate::mesh::{Mesh, NONE};
 
 /// One end of a curve: where it leaves its first node (`at_start`) or its last node.
@@ -83,20 +84,13 @@ fn direction(mesh: &Mesh, v: u32, outgoing: &[u32], thetas: &[f64], p: &CurvePoi
             let q: [f64; 3] = std::array::from_fn(|k| a[k] + lambda * (b[k] - a[k]));
             // Angle from the direction of h_{j-1} (towards b) clockwise to q.
             let (u, w) = (sub(b, pv), sub(q, pv));
-            let from_prev = norm(cross(u, w)).atan2(dot(u, w));
+            let from_prev = angle(u, w);
             let theta_prev = if j == 0 { thetas[j] - corner_angle(mesh, h) } else { thetas[j - 1] };
             Some((j as f64 - lambda, theta_prev + from_prev))
         }
     }
 }
 
-/// Angle of face(h) at the vertex h leaves.
-fn corner_angle(mesh: &Mesh, h: u32) -> f64 {
-    let v = mesh.position(mesh.from_vertex(h));
-    let a = sub(mesh.position(mesh.to_vertex(h)), v);
-    let b = sub(mesh.position(mesh.from_vertex(mesh.prev(h))), v);
-    norm(cross(a, b)).atan2(dot(a, b))
-}
 
 /// Sorts the curve ends around every node.
 ///

@@ -223,7 +223,7 @@ pub fn build_layout(mesh: &Mesh, layout: &Layout) -> Result<SurfaceLayout, Layou
             let pts: Vec<u32> = (0..=len).map(|s| verts[(start + s) % verts.len()]).collect();
             let length = pts
                 .windows(2)
-                .map(|w| crate::mesh::geometry::norm(crate::mesh::geometry::sub(mesh.position(w[1]), mesh.position(w[0]))))
+                .map(|w| crate::geom::norm(crate::geom::sub(mesh.position(w[1]), mesh.position(w[0]))))
                 .sum();
             let nodes = [node_of(pts[0]).unwrap_or(0), node_of(pts[len]).unwrap_or(0)];
             let curve = Curve { points: pts.into_iter().map(CurvePoint::Vertex).collect(), length };

@@ -8,7 +8,7 @@
 
 use super::curve::{position, Curve, CurvePoint};
 use super::embedding::{CurveNodes, Directed};
-use crate::mesh::geometry::{cross, dot, sub};
+use crate::geom::{cross, dot, sub};
 use crate::mesh::{Mesh, NONE};
 
 /// Which curve runs through each vertex and which edges curves cross.

@@ -2,21 +2,7 @@
 //! corner angles and the cotangent weights of the paper's eq. 2.
 
 use super::{Mesh, NONE};
-
-pub type Vec3 = [f64; 3];
-
-pub fn sub(a: Vec3, b: Vec3) -> Vec3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-pub fn dot(a: Vec3, b: Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-pub fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-pub fn norm(a: Vec3) -> f64 {
-    dot(a, a).sqrt()
-}
+use crate::geom::{angle, cotangent, cross, norm, sub, Vec3};
 
 /// Length of every edge, indexed by edge.
 pub fn edge_lengths(mesh: &Mesh) -> Vec<f64> {
@@ -45,14 +31,15 @@ pub fn corner_angles(mesh: &Mesh) -> Vec<[f64; 3]> {
         .iter()
         .map(|t| {
             let p = t.map(|v| mesh.position(v));
-            std::array::from_fn(|k| {
-                let u = sub(p[(k + 1) % 3], p[k]);
-                let v = sub(p[(k + 2) % 3], p[k]);
-                // atan2 stays accurate for angles near 0 and pi, unlike acos.
-                norm(cross(u, v)).atan2(dot(u, v))
-            })
+            std::array::from_fn(|k| angle(sub(p[(k + 1) % 3], p[k]), sub(p[(k + 2) % 3], p[k])))
         })
         .collect()
+}
+
+/// Angle of `face(h)` at the vertex `h` leaves.
+pub fn corner_angle(mesh: &Mesh, h: u32) -> f64 {
+    let o = mesh.position(mesh.from_vertex(h));
+    angle(sub(mesh.position(mesh.to_vertex(h)), o), sub(mesh.position(mesh.from_vertex(mesh.prev(h))), o))
 }
 
 /// Cotangent of the angle opposite halfedge `h` in its face (0 for a boundary halfedge).
@@ -62,9 +49,7 @@ pub fn opposite_cotangent(mesh: &Mesh, h: u32) -> f64 {
     }
     let a = mesh.position(mesh.from_vertex(h));
     let b = mesh.position(mesh.to_vertex(h));
-    let c = mesh.position(mesh.to_vertex(mesh.next(h)));
-    let (u, v) = (sub(a, c), sub(b, c));
-    dot(u, v) / norm(cross(u, v))
+    cotangent(mesh.position(mesh.to_vertex(mesh.next(h))), a, b)
 }
 
 /// Cotangent weight of every edge, paper eq. 2: `w_ij = (cot α_ij + cot β_ij) / 2` with

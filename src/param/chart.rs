@@ -32,8 +32,10 @@
 //! assert!((chart.x[0] - 2.0).abs() < 1e-9 && (chart.x[2] - 1.0).abs() < 1e-9);
 //! ```
 
-/// A 2×2 matrix, row-major: `m[row][col]`.
-type Mat2 = [[f64; 2]; 2];
+use crate::geom::{
+    add2, add_scaled, cross, cross2, det, dot, dot2, frob2, inner, inverse_with, mat_mul, norm2, scale2, sub, sub2,
+    transpose, Mat2,
+};
 
 /// How many degrees of freedom a chart has (method-notes §2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -122,7 +124,7 @@ impl Chart {
             ChartKind::Rect => Chart::rect(0.5 * (a + (d - b)), 0.5 * (c + e)),
             ChartKind::Unit => {
                 let k = self.corners();
-                let side = (0..4).map(|i| norm(sub(k[(i + 1) % 4], k[i]))).sum::<f64>() / 4.0;
+                let side = (0..4).map(|i| norm2(sub2(k[(i + 1) % 4], k[i]))).sum::<f64>() / 4.0;
                 Chart::unit(side)
             }
         }
@@ -178,21 +180,21 @@ impl Chart {
     /// NaN: a chart collapsed to a point, or a non-finite `u`, gives the centre `(½, ½)`.
     pub fn bilinear_coords(&self, u: [f64; 2]) -> [f64; 2] {
         let [_, e, c2, f] = self.corners();
-        let g = sub(sub(c2, e), f);
+        let g = sub2(sub2(c2, e), f);
         let scale = self.x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if !positive(scale) || !u[0].is_finite() || !u[1].is_finite() {
             return [0.5, 0.5];
         }
         if g == [0.0, 0.0] {
             // A parallelogram (every rect and unit chart): eq. 9 is linear, `u = s·c1 + t·c3`.
-            let det = cross(e, f);
+            let det = cross2(e, f);
             if det != 0.0 && det.is_finite() {
-                return [cross(u, f) / det, cross(e, u) / det];
+                return [cross2(u, f) / det, cross2(e, u) / det];
             }
         }
-        let k2 = cross(g, f);
-        let k1 = cross(e, f) + cross(u, g);
-        let k0 = cross(u, e);
+        let k2 = cross2(g, f);
+        let k1 = cross2(e, f) + cross2(u, g);
+        let k0 = cross2(u, e);
 
         // Candidate t values: both roots (stable formula; a clamped discriminant where
         // there is no real root), plus Newton from the centre as a safety net.
@@ -220,7 +222,7 @@ impl Chart {
                 }
             };
             let d = (out(st[0]).powi(2) + out(st[1]).powi(2)).sqrt();
-            d + norm(sub(self.point(st), u)) / scale
+            d + norm2(sub2(self.point(st), u)) / scale
         };
         let mut best: Option<([f64; 2], f64)> = None;
         let consider = |best: &mut Option<([f64; 2], f64)>, st: [f64; 2]| {
@@ -237,10 +239,10 @@ impl Chart {
             if !t.is_finite() {
                 continue;
             }
-            let w = add(e, scale2(t, g));
-            let ww = dot(w, w);
+            let w = add2(e, scale2(t, g));
+            let ww = dot2(w, w);
             if ww > 0.0 {
-                consider(&mut best, [dot(sub(u, scale2(t, f)), w) / ww, t]);
+                consider(&mut best, [dot2(sub2(u, scale2(t, f)), w) / ww, t]);
             }
         }
         // The safety net is needed only when no root lands in the chart and reproduces `u`.
@@ -256,28 +258,28 @@ impl Chart {
     /// Newton steps on `point(st) = u`, each kept only if it lowers the residual.
     fn polish(&self, mut st: [f64; 2], u: [f64; 2]) -> [f64; 2] {
         let [_, e, c2, f] = self.corners();
-        let g = sub(sub(c2, e), f);
-        let mut r = sub(self.point(st), u);
-        let mut rn = norm(r);
+        let g = sub2(sub2(c2, e), f);
+        let mut r = sub2(self.point(st), u);
+        let mut rn = norm2(r);
         for _ in 0..8 {
             if rn == 0.0 {
                 break;
             }
-            let js = add(e, scale2(st[1], g));
-            let jt = add(f, scale2(st[0], g));
-            let det = cross(js, jt);
+            let js = add2(e, scale2(st[1], g));
+            let jt = add2(f, scale2(st[0], g));
+            let det = cross2(js, jt);
             if det == 0.0 || !det.is_finite() {
                 break;
             }
-            let ds = cross(r, jt) / det;
-            let dt = cross(js, r) / det;
+            let ds = cross2(r, jt) / det;
+            let dt = cross2(js, r) / det;
             let next = [st[0] - ds, st[1] - dt];
-            let rn_next = norm(sub(self.point(next), u));
+            let rn_next = norm2(sub2(self.point(next), u));
             if rn_next.is_nan() || rn_next >= rn {
                 break;
             }
             st = next;
-            r = sub(self.point(st), u);
+            r = sub2(self.point(st), u);
             rn = rn_next;
         }
         st
@@ -288,7 +290,7 @@ impl Chart {
     pub fn is_convex(&self) -> bool {
         let k = self.corners();
         (0..4).all(|i| {
-            let turn = cross(sub(k[(i + 1) % 4], k[i]), sub(k[(i + 2) % 4], k[(i + 1) % 4]));
+            let turn = cross2(sub2(k[(i + 1) % 4], k[i]), sub2(k[(i + 2) % 4], k[(i + 1) % 4]));
             turn.is_finite() && turn > 0.0
         })
     }
@@ -296,7 +298,7 @@ impl Chart {
     /// The chart's signed area (shoelace), positive for a counter-clockwise chart.
     pub fn area(&self) -> f64 {
         let k = self.corners();
-        0.5 * (0..4).map(|i| cross(k[i], k[(i + 1) % 4])).sum::<f64>()
+        0.5 * (0..4).map(|i| cross2(k[i], k[(i + 1) % 4])).sum::<f64>()
     }
 
     /// Non-degenerate enough to optimize from: finite, `a > 0`, every edge longer than a
@@ -307,15 +309,15 @@ impl Chart {
             return false;
         }
         let k = self.corners();
-        let edges: Vec<[f64; 2]> = (0..4).map(|i| sub(k[(i + 1) % 4], k[i])).collect();
-        let lengths: Vec<f64> = edges.iter().map(|&v| norm(v)).collect();
+        let edges: Vec<[f64; 2]> = (0..4).map(|i| sub2(k[(i + 1) % 4], k[i])).collect();
+        let lengths: Vec<f64> = edges.iter().map(|&v| norm2(v)).collect();
         let longest = lengths.iter().fold(0.0f64, |m, &l| m.max(l));
         if !positive(longest) || lengths.iter().any(|&l| !positive(l - 1e-9 * longest)) {
             return false;
         }
         (0..4).all(|i| {
             let j = (i + 1) % 4;
-            cross(edges[i], edges[j]) >= 1e-6 * lengths[i] * lengths[j]
+            cross2(edges[i], edges[j]) >= 1e-6 * lengths[i] * lengths[j]
         })
     }
 }
@@ -350,29 +352,29 @@ impl ChartTriangle {
 /// A degenerate triangle (coincident or collinear vertices, non-finite input) gets area 0 and
 /// a singular `P`; [`energy`] skips such triangles.
 pub fn rest_frame(p0: [f64; 3], p1: [f64; 3], p2: [f64; 3]) -> ([[f64; 2]; 2], f64) {
-    let e1 = sub3(p1, p0);
-    let e2 = sub3(p2, p0);
-    let l1 = dot3(e1, e1).sqrt();
-    let n = cross3(e1, e2);
-    let nn = dot3(n, n).sqrt();
+    let e1 = sub(p1, p0);
+    let e2 = sub(p2, p0);
+    let l1 = dot(e1, e1).sqrt();
+    let n = cross(e1, e2);
+    let nn = dot(n, n).sqrt();
     if !positive(l1) || !positive(nn) {
         let l1 = if l1.is_finite() { l1 } else { 0.0 };
         return ([[l1, 0.0], [0.0, 0.0]], 0.0);
     }
     let x = [e1[0] / l1, e1[1] / l1, e1[2] / l1];
     // ŷ = n̂ × x̂: in the plane, with (p2−p0)·ŷ = |n| / |e1| > 0.
-    let y = cross3([n[0] / nn, n[1] / nn, n[2] / nn], x);
-    ([[l1, dot3(e2, x)], [0.0, dot3(e2, y)]], 0.5 * nn)
+    let y = cross([n[0] / nn, n[1] / nn, n[2] / nn], x);
+    ([[l1, dot(e2, x)], [0.0, dot(e2, y)]], 0.5 * nn)
 }
 
 /// `P⁻¹`, or `None` if `P` is not finite or numerically singular (`|det P| ≤ 1e-12·‖P‖²_F`).
 fn rest_inverse(p: &Mat2) -> Option<Mat2> {
-    let det = p[0][0] * p[1][1] - p[0][1] * p[1][0];
+    let det = det(p);
     let f2 = frob2(p);
     if !det.is_finite() || !f2.is_finite() || det.abs() <= 1e-12 * f2 {
         return None;
     }
-    Some([[p[1][1] / det, -p[0][1] / det], [-p[1][0] / det, p[0][0] / det]])
+    Some(inverse_with(p, det))
 }
 
 /// Whether a triangle's image `u` is flipped or collapsed: its signed area is negative or, up
@@ -397,8 +399,8 @@ pub fn distortion(u: [[f64; 2]; 3], rest: [[f64; 2]; 2]) -> f64 {
         return f64::INFINITY;
     };
     let d = [[u[1][0] - u[0][0], u[2][0] - u[0][0]], [u[1][1] - u[0][1], u[2][1] - u[0][1]]];
-    let j = mul(&d, &pinv);
-    let mut m = mul(&transpose(&j), &j);
+    let j = mat_mul(&d, &pinv);
+    let mut m = mat_mul(&transpose(&j), &j);
     m[0][0] -= 1.0;
     m[1][1] -= 1.0;
     frob2(&m)
@@ -465,7 +467,7 @@ fn energy_of(x: &[f64; 5], gens: &[Generators], n: usize) -> (f64, Vec<f64>, Vec
         let (j, m) = strain(x, gx);
         value += w * frob2(&m);
         for k in 0..n {
-            let gtj = mul(&transpose(&gz[k]), &j);
+            let gtj = mat_mul(&transpose(&gz[k]), &j);
             sz[k] = [
                 [2.0 * gtj[0][0], gtj[0][1] + gtj[1][0]],
                 [gtj[0][1] + gtj[1][0], 2.0 * gtj[1][1]],
@@ -476,7 +478,7 @@ fn energy_of(x: &[f64; 5], gens: &[Generators], n: usize) -> (f64, Vec<f64>, Vec
             let gkt = transpose(&gz[k]);
             for l in 0..=k {
                 // ⟨M, GₖᵀGₗ + GₗᵀGₖ⟩ = 2⟨M, GₖᵀGₗ⟩ since M is symmetric.
-                let hkl = 2.0 * inner(&sz[l], &sz[k]) + 4.0 * inner(&m, &mul(&gkt, &gz[l]));
+                let hkl = 2.0 * inner(&sz[l], &sz[k]) + 4.0 * inner(&m, &mat_mul(&gkt, &gz[l]));
                 hess[k][l] += w * hkl;
             }
         }
@@ -506,7 +508,7 @@ fn strain(x: &[f64; 5], gx: &[Mat2; 5]) -> (Mat2, Mat2) {
     for (xk, gk) in x.iter().zip(gx) {
         j = add_scaled(&j, *xk, gk);
     }
-    let mut m = mul(&transpose(&j), &j);
+    let mut m = mat_mul(&transpose(&j), &j);
     m[0][0] -= 1.0;
     m[1][1] -= 1.0;
     (j, m)
@@ -536,7 +538,7 @@ impl Moments {
         let mut sa = vec![[[0.0; 2]; 2]; np];
         for g in gens {
             for (s, &(i, j)) in sa.iter_mut().zip(&pairs) {
-                let p = mul(&transpose(&g.along[i]), &g.along[j]);
+                let p = mat_mul(&transpose(&g.along[i]), &g.along[j]);
                 *s = if i == j { p } else { add_scaled(&p, 1.0, &transpose(&p)) };
             }
             for a in 0..np {
@@ -609,7 +611,7 @@ fn triangle_generators(tri: &ChartTriangle) -> Option<(f64, [Mat2; 5])> {
             [b[1][k][0] - b[0][k][0], b[2][k][0] - b[0][k][0]],
             [b[1][k][1] - b[0][k][1], b[2][k][1] - b[0][k][1]],
         ];
-        *gk = mul(&d, &pinv);
+        *gk = mat_mul(&d, &pinv);
     }
     Some((tri.area, gx))
 }
@@ -851,68 +853,6 @@ fn positive(v: f64) -> bool {
     v > 0.0 && v.is_finite()
 }
 
-fn sub(p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
-    [p[0] - q[0], p[1] - q[1]]
-}
-
-fn add(p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
-    [p[0] + q[0], p[1] + q[1]]
-}
-
-fn scale2(s: f64, p: [f64; 2]) -> [f64; 2] {
-    [s * p[0], s * p[1]]
-}
-
-fn dot(p: [f64; 2], q: [f64; 2]) -> f64 {
-    p[0] * q[0] + p[1] * q[1]
-}
-
-fn cross(p: [f64; 2], q: [f64; 2]) -> f64 {
-    p[0] * q[1] - p[1] * q[0]
-}
-
-fn norm(p: [f64; 2]) -> f64 {
-    // Not `hypot`: exact to the last bit but several times slower, and chart coordinates are
-    // far from overflow.
-    dot(p, p).sqrt()
-}
-
-fn sub3(p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
-    [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
-}
-
-fn dot3(p: [f64; 3], q: [f64; 3]) -> f64 {
-    p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
-}
-
-fn cross3(p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
-    [p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]]
-}
-
-fn mul(a: &Mat2, b: &Mat2) -> Mat2 {
-    [
-        [a[0][0] * b[0][0] + a[0][1] * b[1][0], a[0][0] * b[0][1] + a[0][1] * b[1][1]],
-        [a[1][0] * b[0][0] + a[1][1] * b[1][0], a[1][0] * b[0][1] + a[1][1] * b[1][1]],
-    ]
-}
-
-fn transpose(a: &Mat2) -> Mat2 {
-    [[a[0][0], a[1][0]], [a[0][1], a[1][1]]]
-}
-
-fn add_scaled(a: &Mat2, s: f64, b: &Mat2) -> Mat2 {
-    [[a[0][0] + s * b[0][0], a[0][1] + s * b[0][1]], [a[1][0] + s * b[1][0], a[1][1] + s * b[1][1]]]
-}
-
-/// Frobenius inner product `⟨A, B⟩ = Σ Aᵢⱼ Bᵢⱼ`.
-fn inner(a: &Mat2, b: &Mat2) -> f64 {
-    a[0][0] * b[0][0] + a[0][1] * b[0][1] + a[1][0] * b[1][0] + a[1][1] * b[1][1]
-}
-
-fn frob2(a: &Mat2) -> f64 {
-    inner(a, a)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -947,12 +887,12 @@ mod tests {
     /// A rigid motion of the plane into 3D: rotate about an oblique axis, then translate.
     fn embed(p: [f64; 2]) -> [f64; 3] {
         let (axis, angle) = ([1.0f64, 2.0, -0.5], 0.9f64);
-        let n = dot3(axis, axis).sqrt();
+        let n = dot(axis, axis).sqrt();
         let k = [axis[0] / n, axis[1] / n, axis[2] / n];
         let v = [p[0], p[1], 0.0];
         let (s, c) = angle.sin_cos();
-        let kv = cross3(k, v);
-        let kd = dot3(k, v);
+        let kv = cross(k, v);
+        let kd = dot(k, v);
         let r: Vec<f64> = (0..3).map(|i| v[i] * c + kv[i] * s + k[i] * kd * (1.0 - c)).collect();
         [r[0] + 3.0, r[1] - 1.0, r[2] + 0.25]
     }
@@ -976,10 +916,10 @@ mod tests {
 
     /// `q` moved so that q0 is at the origin and q1 on +x, as chart variables.
     fn canonical(q: [[f64; 2]; 4]) -> [f64; 5] {
-        let e = sub(q[1], q[0]);
+        let e = sub2(q[1], q[0]);
         let (s, c) = (-e[1].atan2(e[0])).sin_cos();
         let place = |p: [f64; 2]| {
-            let v = sub(p, q[0]);
+            let v = sub2(p, q[0]);
             [c * v[0] - s * v[1], s * v[0] + c * v[1]]
         };
         let [_, c1, c2, c3] = q.map(place);
@@ -987,7 +927,7 @@ mod tests {
     }
 
     fn mean_edge(q: [[f64; 2]; 4]) -> f64 {
-        (0..4).map(|i| norm(sub(q[(i + 1) % 4], q[i]))).sum::<f64>() / 4.0
+        (0..4).map(|i| norm2(sub2(q[(i + 1) % 4], q[i]))).sum::<f64>() / 4.0
     }
 
     fn random_triangles(rng: &mut Rng, count: usize) -> Vec<ChartTriangle> {
@@ -1203,13 +1143,13 @@ mod tests {
                 let sum: f64 = w.iter().sum();
                 let mut u = [0.0; 2];
                 for (wi, ki) in w.iter().zip(&k) {
-                    u = add(u, scale2(wi / sum, *ki));
+                    u = add2(u, scale2(wi / sum, *ki));
                 }
                 let st = chart.bilinear_coords(u);
                 assert!(st.iter().all(|v| (-1e-12..=1.0 + 1e-12).contains(v)), "{chart:?}: {st:?}");
                 let back = chart.point(st);
                 assert!(
-                    norm(sub(back, u)) < 1e-12 * scale,
+                    norm2(sub2(back, u)) < 1e-12 * scale,
                     "{chart:?}: {u:?} -> {st:?} -> {back:?}"
                 );
             }
@@ -1243,7 +1183,7 @@ mod tests {
                 let st = [i as f64 / 10.0, j as f64 / 10.0];
                 let u = nonconvex.point(st);
                 let back = nonconvex.bilinear_coords(u);
-                assert!(norm(sub(nonconvex.point(back), u)) < 1e-9, "{st:?} -> {back:?}");
+                assert!(norm2(sub2(nonconvex.point(back), u)) < 1e-9, "{st:?} -> {back:?}");
             }
         }
     }
@@ -1262,7 +1202,7 @@ mod tests {
             let place = |scale: f64| {
                 let col = |k: usize| {
                     let v = [rest[0][k], rest[1][k]];
-                    add(u0, scale2(scale, [c * v[0] - s * v[1], s * v[0] + c * v[1]]))
+                    add2(u0, scale2(scale, [c * v[0] - s * v[1], s * v[0] + c * v[1]]))
                 };
                 [u0, col(0), col(1)]
             };
@@ -1279,13 +1219,13 @@ mod tests {
         let (p0, p1, p2) = ([1.0, 2.0, 3.0], [2.0, 2.5, 2.0], [0.5, 3.0, 4.0]);
         let (rest, area) = rest_frame(p0, p1, p2);
         let col = |k: usize| [rest[0][k], rest[1][k]];
-        let (e1, e2) = (sub3(p1, p0), sub3(p2, p0));
-        assert!((norm(col(0)) - dot3(e1, e1).sqrt()).abs() < 1e-14);
-        assert!((norm(col(1)) - dot3(e2, e2).sqrt()).abs() < 1e-14);
-        assert!((dot(col(0), col(1)) - dot3(e1, e2)).abs() < 1e-14);
-        let n = cross3(e1, e2);
-        assert!((area - 0.5 * dot3(n, n).sqrt()).abs() < 1e-14);
-        assert!((cross(col(0), col(1)) - 2.0 * area).abs() < 1e-14);
+        let (e1, e2) = (sub(p1, p0), sub(p2, p0));
+        assert!((norm2(col(0)) - dot(e1, e1).sqrt()).abs() < 1e-14);
+        assert!((norm2(col(1)) - dot(e2, e2).sqrt()).abs() < 1e-14);
+        assert!((dot2(col(0), col(1)) - dot(e1, e2)).abs() < 1e-14);
+        let n = cross(e1, e2);
+        assert!((area - 0.5 * dot(n, n).sqrt()).abs() < 1e-14);
+        assert!((cross2(col(0), col(1)) - 2.0 * area).abs() < 1e-14);
         assert_eq!(rest_frame(p0, p0, p2).1, 0.0);
         assert_eq!(rest_frame(p0, p1, [3.0, 3.0, 1.0]).1, 0.0); // collinear
     }

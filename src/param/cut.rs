@@ -10,7 +10,7 @@
 
 use crate::layout::curve::{common_face, position, CurvePoint};
 use crate::layout::SurfaceLayout;
-use crate::mesh::geometry::{cross, dot, norm, sub};
+use crate::geom::{cross, dot, norm, sub};
 use crate::mesh::{Mesh, NONE};
 use std::collections::HashMap;
 

@@ -71,7 +71,7 @@
 
 use super::cut::CutMesh;
 use super::transition::Affine;
-use crate::mesh::geometry::{cross, dot, norm, sub};
+use crate::geom::{cotangent, perp2};
 use crate::clock::now;
 use crate::mesh::NONE;
 use crate::solve::{SolveError, SpdSolver};
@@ -226,10 +226,7 @@ pub fn cotangent_halves(cut: &CutMesh) -> Vec<[f64; 3]> {
         .iter()
         .map(|t| {
             let p = t.map(|v| cut.positions[v as usize]);
-            std::array::from_fn(|k| {
-                let (u, w) = (sub(p[(k + 1) % 3], p[k]), sub(p[(k + 2) % 3], p[k]));
-                0.5 * dot(u, w) / norm(cross(u, w)).max(f64::MIN_POSITIVE)
-            })
+            std::array::from_fn(|k| 0.5 * cotangent(p[k], p[(k + 1) % 3], p[(k + 2) % 3]))
         })
         .collect()
 }
@@ -315,11 +312,6 @@ pub struct Solution {
     pub corner_uv: Vec<[[f64; 2]; 3]>,
 }
 
-/// The direction perpendicular to `d`, turned by +90°.
-fn perp(d: [f64; 2]) -> [f64; 2] {
-    [-d[1], d[0]]
-}
-
 /// Whether columns `x` and `y` of two expressions' matrices can give a nonzero product
 /// when their components along the axes keep being zero or not (axis-parallel sides).
 fn overlaps(x: [f64; 2], y: [f64; 2]) -> bool {
@@ -368,7 +360,7 @@ fn triangle_terms(ex: &[Expr; 3], w: &[f64; 3], turns: Option<[bool; 3]>, rhs: &
                         let yj = [y.m[0][j], y.m[1][j]];
                         // The pattern as if nothing were held: column 1 is column 0 turned by
                         // 90° (transitions are similarities).
-                        let full = |e: &Expr, k: usize| if k == 0 { [e.m[0][0], e.m[1][0]] } else { perp([e.m[0][0], e.m[1][0]]) };
+                        let full = |e: &Expr, k: usize| if k == 0 { [e.m[0][0], e.m[1][0]] } else { perp2([e.m[0][0], e.m[1][0]]) };
                         let keep = turns.is_some() && (general || row == col || overlaps(full(x, i), full(y, j)));
                         term(row, col, sx * sy * w[k] * (xi[0] * yj[0] + xi[1] * yj[1]), keep);
                     }
@@ -431,7 +423,7 @@ impl System {
                     return Err(ParamError::NodeNotOnFace { node: cut.vertex_node[first as usize], face: cut.vertex_face[vi] });
                 };
                 let d = [q[0] - p[0], q[1] - p[1]];
-                let n = if held.get(vi) == Some(&true) || matches!(var, Var::OnSide(_)) { [0.0, 0.0] } else { perp(d) };
+                let n = if held.get(vi) == Some(&true) || matches!(var, Var::OnSide(_)) { [0.0, 0.0] } else { perp2(d) };
                 Ok(Some(Expr { var, m: [[d[0], n[0]], [d[1], n[1]]], b: p }))
             })
             .collect()

@@ -16,7 +16,7 @@
 //! assert_eq!(hit.distance_squared, 4.0);
 //! ```
 
-use crate::mesh::geometry::{dot, sub, Vec3};
+use crate::geom::{dot, sub, Vec3};
 
 /// Triangles per leaf: below this a linear scan beats descending further.
 const LEAF_SIZE: usize = 4;
@@ -322,7 +322,7 @@ fn split(nodes: &mut Vec<Node>, order: &mut [(Vec3, u32)], offset: u32, corners:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::geometry::{cross, norm};
+    use crate::geom::{cross, norm};
 
     /// A seeded linear congruential generator (Knuth's MMIX constants): reproducible
     /// random numbers without a dependency.

@@ -8,7 +8,7 @@ pub mod counts;
 pub mod locate;
 
 use crate::layout::SurfaceLayout;
-use crate::mesh::geometry::{norm, sub};
+use crate::geom::{norm, sub};
 use crate::mesh::{Mesh, NONE};
 use crate::param::transition::Affine;
 use crate::param::ParamSession;

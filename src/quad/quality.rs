@@ -18,7 +18,8 @@
 
 use super::closest::TriangleTree;
 use super::QuadMesh;
-use crate::mesh::geometry::{bounding_box, cross, dot, norm, sub, Vec3};
+use crate::geom::{cross, dot, norm, sub, Vec3};
+use crate::mesh::geometry::bounding_box;
 use crate::mesh::Mesh;
 
 /// Quality measures of a quad mesh; see [`measure`].
