@@ -12,6 +12,7 @@ pub mod layout;
 pub mod mesh;
 pub mod param;
 pub mod quad;
+pub mod quote;
 pub mod report;
 pub mod solve;
 pub mod summary;

@@ -5,7 +5,8 @@ use quadlay::clock::now;
 use quadlay::io::{read_mesh_with_resources, write_glb, write_gltf, write_obj, write_ply, Polygons};
 use quadlay::layout::{build_layout, parse_layout, ChartType, Layout, SurfaceLayout};
 use quadlay::param::{input_uv::input_corner_uv, ParamError, ParamOptions, ParamSession};
-use quadlay::quad::{default_edge_length, QuadError, QuadOptions};
+use quadlay::quad::{check_edge_length, default_edge_length, QuadError, QuadOptions};
+use quadlay::quote::{printable, quoted};
 use quadlay::report::{extract_and_report, Seconds};
 use quadlay::summary::{LayoutSummary, MeshSummary};
 use std::path::Path;
@@ -51,7 +52,9 @@ fn main() -> ExitCode {
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
-            eprintln!("error: {}", f.message);
+            // File names come from the command line as they are: no control byte reaches
+            // the terminal, and the message stays one line.
+            eprintln!("error: {}", printable(&f.message));
             ExitCode::from(f.code)
         }
     }
@@ -67,7 +70,7 @@ fn run(args: &[String]) -> Result<(), Failure> {
         Some("--version") => {
             say(&format!("quadlay {}\n", env!("CARGO_PKG_VERSION")))
         }
-        Some(other) => Err(bad_input(format!("unknown command '{other}' (quadlay --help lists them)"))),
+        Some(other) => Err(bad_input(format!("unknown command {} (quadlay --help lists them)", quoted(other)))),
         None => Err(bad_input("no command given (quadlay --help lists them)".into())),
     }
 }
@@ -82,7 +85,7 @@ fn check(args: &[String]) -> Result<(), Failure> {
                 let p = it.next().ok_or_else(|| bad_input("--layout needs a file".into()))?;
                 layout_path = Some(p);
             }
-            _ if a.starts_with('-') => return Err(bad_input(format!("check: unknown option '{a}'"))),
+            _ if a.starts_with('-') => return Err(bad_input(format!("check: unknown option {}", quoted(a)))),
             _ if mesh_path.is_some() => return Err(bad_input("check takes one mesh file".into())),
             _ => mesh_path = Some(a),
         }
@@ -154,15 +157,15 @@ fn parse_remesh(args: &[String]) -> Result<RemeshArgs, Failure> {
             "--layout" => r.layout = Some(value("--layout")?),
             "--edge-length" => {
                 let v = value("--edge-length")?;
-                let l: f64 = v.parse().map_err(|_| bad_input(format!("--edge-length: '{v}' is not a number")))?;
+                let l: f64 = v.parse().map_err(|_| bad_input(format!("--edge-length: {} is not a number", quoted(&v))))?;
                 if !(l.is_finite() && l > 0.0) {
-                    return Err(bad_input(format!("--edge-length must be a positive number, not {v}")));
+                    return Err(bad_input(format!("--edge-length must be a positive number, not {}", quoted(&v))));
                 }
                 r.edge_length = Some(l);
             }
             "--iterations" => {
                 let v = value("--iterations")?;
-                let k: usize = v.parse().map_err(|_| bad_input(format!("--iterations: '{v}' is not a whole number")))?;
+                let k: usize = v.parse().map_err(|_| bad_input(format!("--iterations: {} is not a whole number", quoted(&v))))?;
                 if k > 1000 {
                     return Err(bad_input(format!("--iterations: {k} is more than 1000")));
                 }
@@ -174,7 +177,7 @@ fn parse_remesh(args: &[String]) -> Result<RemeshArgs, Failure> {
                     "quad" => ChartType::Quad,
                     "rect" => ChartType::Rect,
                     "unit" => ChartType::Unit,
-                    _ => return Err(bad_input(format!("--chart: '{v}' is not one of quad, rect, unit"))),
+                    _ => return Err(bad_input(format!("--chart: {} is not one of quad, rect, unit", quoted(&v)))),
                 });
             }
             "--no-align" => r.no_align = true,
@@ -191,7 +194,7 @@ fn parse_remesh(args: &[String]) -> Result<RemeshArgs, Failure> {
                 r.param_out = Some(v);
             }
             "--report" => r.report = Some(value("--report")?),
-            _ if a.starts_with('-') => return Err(bad_input(format!("remesh: unknown option '{a}'"))),
+            _ if a.starts_with('-') => return Err(bad_input(format!("remesh: unknown option {}", quoted(a)))),
             _ if r.mesh.is_some() => return Err(bad_input("remesh takes one mesh file".into())),
             _ => r.mesh = Some(a.clone()),
         }
@@ -226,6 +229,9 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
         layout_file.default_chart = chart;
     }
     let layout = place_layout(mesh, layout_path, layout_file)?;
+    let edge_length = a.edge_length.unwrap_or_else(|| default_edge_length(mesh));
+    // Refused before the parameterization, which would take its time for nothing.
+    check_edge_length(&layout, edge_length).map_err(|e| bad_input(format!("{layout_path}: {e}")))?;
     let t_layout = now();
 
     let mut options = ParamOptions::default();
@@ -242,7 +248,7 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     param.finish().map_err(param_failure)?;
     let t_param = now();
 
-    let quad_options = QuadOptions::with_edge_length(a.edge_length.unwrap_or_else(|| default_edge_length(mesh)));
+    let quad_options = QuadOptions::with_edge_length(edge_length);
     // Every extraction error is the input's: a layout that does not make quads, or an
     // edge length that asks for too many.
     let earlier = Seconds {

@@ -10,6 +10,7 @@ use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
 use crate::param::{ParamOptions, ParamSession};
 use crate::quad::{default_edge_length, QuadMesh, QuadOptions};
+use crate::quote::{quoted, quoted_in};
 use crate::report::{extract_and_report, Report, Seconds};
 use crate::summary::{LayoutSummary, MeshSummary};
 use serde::{Deserialize, Serialize};
@@ -69,7 +70,7 @@ fn options<T: serde::de::DeserializeOwned>(value: JsValue, what: &str, known: &[
         for key in js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>()).iter() {
             let key = key.as_string().unwrap_or_default();
             if !known.contains(&key.as_str()) {
-                return Err(JsError::new(&format!("{what}: unknown option `{key}` (known: {})", known.join(", "))));
+                return Err(JsError::new(&format!("{what}: unknown option {} (known: {})", quoted_in(&key, '`'), known.join(", "))));
             }
         }
     }
@@ -183,7 +184,7 @@ impl Session {
         };
         let chart = match opts.chart.as_deref() {
             None => None,
-            Some(c) => Some(ChartType::parse(c).ok_or_else(|| JsError::new(&format!("unknown chart type '{c}' (quad, rect or unit)")))?),
+            Some(c) => Some(ChartType::parse(c).ok_or_else(|| JsError::new(&format!("unknown chart type {} (quad, rect or unit)", quoted(c))))?),
         };
         let (Some(layout), Some(file)) = (self.layout.as_ref(), self.file.as_ref()) else {
             return Err(JsError::new("place a layout first"));
@@ -358,7 +359,7 @@ impl Session {
             "obj" => Ok(write_obj(polygons, None)),
             "ply" => Ok(write_ply(polygons)),
             "glb" => Ok(write_glb(polygons)),
-            _ => Err(JsError::new(&format!("unknown quad mesh format '{format}' (obj, ply or glb)"))),
+            _ => Err(JsError::new(&format!("unknown quad mesh format {} (obj, ply or glb)", quoted(format)))),
         }
     }
 

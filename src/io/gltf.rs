@@ -5,6 +5,7 @@
 
 use super::weld::weld_triangles;
 use super::{Format, ReadError, ReadSoup};
+use crate::quote::quoted;
 use base64::Engine;
 use gltf::accessor::{DataType, Dimensions};
 use gltf::json::mesh::Semantic;
@@ -100,8 +101,9 @@ fn load_buffers(
                 }
                 gltf::buffer::Source::Uri(uri) => resource(uri).ok_or_else(|| {
                     invalid(format!(
-                        "buffer {} is the external file '{uri}', which cannot be read here (use .glb)",
-                        b.index()
+                        "buffer {} is the external file {}, which cannot be read here (use .glb)",
+                        b.index(),
+                        quoted(uri)
                     ))
                 })?,
             };

@@ -12,6 +12,7 @@ mod text;
 mod weld;
 
 use crate::mesh::{build_mesh, Mesh, MeshError, Repairs, TriangleSoup};
+use crate::quote::quoted;
 use std::fmt;
 
 /// File formats quadlay reads.
@@ -77,7 +78,8 @@ impl fmt::Display for ReadError {
         match self {
             ReadError::UnknownFormat { name } => write!(
                 f,
-                "cannot tell the format of '{name}': expected .obj, .ply, .stl, .gltf or .glb"
+                "cannot tell the format of {}: expected .obj, .ply, .stl, .gltf or .glb",
+                quoted(name)
             ),
             ReadError::Syntax { format, line, message } => write!(f, "{format} line {line}: {message}"),
             ReadError::Invalid { format, message } => write!(f, "{format}: {message}"),

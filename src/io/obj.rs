@@ -4,6 +4,7 @@
 use super::text::{lines, point};
 use super::{Format, ReadError, ReadSoup};
 use crate::mesh::TriangleSoup;
+use crate::quote::quoted;
 
 const F: Format = Format::Obj;
 
@@ -41,7 +42,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<ReadSoup, ReadError> {
 fn vertex_index(token: &str, defined: usize, line: usize) -> Result<u32, ReadError> {
     let err = |message: String| ReadError::Syntax { format: F, line, message };
     let first = token.split('/').next().unwrap_or("");
-    let i: i64 = first.parse().map_err(|_| err(format!("'{token}' is not a vertex index")))?;
+    let i: i64 = first.parse().map_err(|_| err(format!("{} is not a vertex index", quoted(token))))?;
     let index = match i {
         0 => return Err(err("vertex index 0 (OBJ counts from 1)".into())),
         i if i < 0 => defined as i64 + i,

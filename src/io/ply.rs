@@ -4,6 +4,16 @@
 
 use super::{Format, ReadError, ReadSoup};
 use crate::mesh::TriangleSoup;
+use crate::quote::quoted;
+
+/// An element's name as messages show it: the common ones plain (`face 3`), any other
+/// quoted, since a header may name an element anything.
+fn printable_name(name: &str) -> String {
+    match name {
+        "vertex" | "face" | "edge" => name.to_string(),
+        _ => quoted(name),
+    }
+}
 
 const F: Format = Format::Ply;
 
@@ -97,7 +107,8 @@ fn header(bytes: &[u8]) -> Result<(Encoding, Vec<Element>, usize, usize), ReadEr
                     Some("ascii") => Encoding::Ascii,
                     Some("binary_little_endian") => Encoding::Little,
                     Some("binary_big_endian") => Encoding::Big,
-                    other => return Err(syntax(line, format!("unknown format {other:?}"))),
+                    Some(other) => return Err(syntax(line, format!("unknown format {}", quoted(other)))),
+                    None => return Err(syntax(line, "format without a name")),
                 });
             }
             Some("comment") | Some("obj_info") | None => {}
@@ -106,7 +117,7 @@ fn header(bytes: &[u8]) -> Result<(Encoding, Vec<Element>, usize, usize), ReadEr
                 let count = t
                     .next()
                     .and_then(|c| c.parse::<usize>().ok())
-                    .ok_or_else(|| syntax(line, format!("element '{name}' has no valid count")))?;
+                    .ok_or_else(|| syntax(line, format!("element {} has no valid count", quoted(name))))?;
                 elements.push(Element { name: name.to_string(), count, properties: Vec::new() });
             }
             Some("property") => {
@@ -116,7 +127,7 @@ fn header(bytes: &[u8]) -> Result<(Encoding, Vec<Element>, usize, usize), ReadEr
                 let ty = t.next().unwrap_or("");
                 let scalar = |s: Option<&str>| {
                     s.and_then(Scalar::parse)
-                        .ok_or_else(|| syntax(line, format!("unknown property type {s:?}")))
+                        .ok_or_else(|| syntax(line, format!("unknown property type {}", quoted(s.unwrap_or("")))))
                 };
                 let prop = if ty == "list" {
                     let count = scalar(t.next())?;
@@ -131,7 +142,7 @@ fn header(bytes: &[u8]) -> Result<(Encoding, Vec<Element>, usize, usize), ReadEr
                 el.properties.push(prop);
             }
             Some("end_header") => break,
-            Some(other) => return Err(syntax(line, format!("unknown header keyword '{other}'"))),
+            Some(other) => return Err(syntax(line, format!("unknown header keyword {}", quoted(other)))),
         }
     }
     let encoding = encoding.ok_or_else(|| invalid("the header has no 'format' line"))?;
@@ -181,7 +192,7 @@ impl<'a> Body<'a> {
             if let Some(tok) = self.tokens.next() {
                 return tok
                     .parse::<f64>()
-                    .map_err(|_| syntax(self.line, format!("'{tok}' is not a number ({})", what())));
+                    .map_err(|_| syntax(self.line, format!("{} is not a number ({})", quoted(tok), what())));
             }
             if self.pos >= self.bytes.len() {
                 return Err(invalid(format!("the file ends inside {}", what())));
@@ -253,7 +264,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<ReadSoup, ReadError> {
             soup.positions.reserve(el.count);
         }
         for i in 0..el.count {
-            let what = || format!("{} {i}", el.name);
+            let what = || format!("{} {i}", printable_name(&el.name));
             let mut p = [0.0; 3];
             for (pi, prop) in el.properties.iter().enumerate() {
                 match prop {

@@ -5,6 +5,7 @@
 use super::text::{lines, point};
 use super::weld::weld_triangles;
 use super::{Format, ReadError, ReadSoup};
+use crate::quote::quoted;
 
 const F: Format = Format::Stl;
 
@@ -84,7 +85,7 @@ fn read_ascii(bytes: &[u8]) -> Result<ReadSoup, ReadError> {
                 open_facet_line = 0;
             }
             Some("solid") | Some("outer") | Some("endloop") | Some("endsolid") | None => {}
-            Some(other) => return Err(err(format!("unexpected '{other}'"))),
+            Some(other) => return Err(err(format!("unexpected {}", quoted(other)))),
         }
     }
     if open_facet_line != 0 {

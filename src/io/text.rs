@@ -1,6 +1,7 @@
 //! Helpers for the text formats: lines with their numbers, numbers with clear errors.
 
 use super::{Format, ReadError};
+use crate::quote::quoted;
 
 /// The lines of `bytes` with 1-based numbers; a line that is not UTF-8 is an error.
 pub(crate) fn lines(
@@ -25,9 +26,9 @@ pub(crate) fn lines(
 pub(crate) fn coordinate(token: Option<&str>, format: Format, line: usize) -> Result<f64, ReadError> {
     let err = |message: String| ReadError::Syntax { format, line, message };
     let t = token.ok_or_else(|| err("expected a coordinate, found the end of the line".into()))?;
-    let x: f64 = t.parse().map_err(|_| err(format!("'{t}' is not a number")))?;
+    let x: f64 = t.parse().map_err(|_| err(format!("{} is not a number", quoted(t))))?;
     if !x.is_finite() {
-        return Err(err(format!("coordinate '{t}' is not a finite number")));
+        return Err(err(format!("coordinate {} is not a finite number", quoted(t))));
     }
     Ok(x)
 }

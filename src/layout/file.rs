@@ -5,13 +5,16 @@
 //! error names its entry (`edges[3].via[0]: ...`) and says what was expected.
 
 use crate::mesh::Mesh;
+use crate::quote::quoted;
 use serde_json::{json, Map, Value};
 use std::fmt;
 
 /// Where a node or waypoint sits: a mesh vertex, or a point snapped to the nearest vertex.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Location {
-    Vertex(u32),
+    /// A vertex index as the file gives it (u64: an index past the mesh's is refused when
+    /// the layout is placed, with the mesh's real vertex count).
+    Vertex(u64),
     Point([f64; 3]),
 }
 
@@ -104,11 +107,15 @@ impl fmt::Display for LayoutFileError {
         }
         match &self.problem {
             Problem::Json(e) => write!(f, "not valid JSON: {e}"),
-            Problem::UnknownKey(k) => write!(f, "unknown key '{k}'"),
+            Problem::UnknownKey(k) => write!(f, "unknown key {}", quoted(k)),
             Problem::Missing(k) => write!(f, "missing '{k}'"),
             Problem::Expected(what) => write!(f, "expected {what}"),
-            Problem::WrongFormat(s) => write!(f, "format is '{s}', expected 'quad-layout'"),
-            Problem::UnsupportedVersion(v) => write!(f, "version {v} is not supported (this reader knows version 1)"),
+            Problem::WrongFormat(s) => write!(f, "format is {}, expected 'quad-layout'", quoted(s)),
+            Problem::UnsupportedVersion(v) => {
+                // A number as it is; anything else (a string of megabytes) quoted.
+                let v = if v.is_number() { v.to_string() } else { quoted(&v.to_string()) };
+                write!(f, "version {v} is not supported (this reader knows version 1)")
+            },
             Problem::NotFinite => write!(f, "coordinates must be finite numbers"),
             Problem::NoSuchNode { node, nodes } => write!(f, "node {node} does not exist ({nodes} nodes)"),
             Problem::NoSuchVertex { vertex, vertices } => {
@@ -119,7 +126,7 @@ impl fmt::Display for LayoutFileError {
                 write!(f, "on mesh vertex {vertex}, like nodes[{other}]")
             }
             Problem::SelfLoop => write!(f, "an edge must join two different nodes"),
-            Problem::UnknownChart(c) => write!(f, "unknown chart type '{c}' (quad, rect or unit)"),
+            Problem::UnknownChart(c) => write!(f, "unknown chart type {} (quad, rect or unit)", quoted(c)),
             Problem::RepeatedCorner(n) => write!(f, "node {n} is named twice as a corner"),
         }
     }
@@ -166,10 +173,8 @@ fn location(v: &Value, entry: &str) -> Result<Location, LayoutFileError> {
     let obj = object(v, entry, &["vertex", "point"], WHAT)?;
     match (obj.get("vertex"), obj.get("point")) {
         (Some(i), None) => {
-            let i = index(i, &format!("{entry}.vertex"))?;
-            u32::try_from(i)
-                .map(Location::Vertex)
-                .map_err(|_| err(entry, Problem::NoSuchVertex { vertex: i, vertices: 0 }))
+            // Checked against the mesh's vertex count when the layout is placed.
+            Ok(Location::Vertex(index(i, &format!("{entry}.vertex"))?))
         }
         (None, Some(p)) => {
             let e = format!("{entry}.point");
@@ -346,10 +351,10 @@ pub fn write_layout(layout: &Layout) -> String {
 pub fn resolve_location(mesh: &Mesh, l: &Location, entry: &str) -> Result<u32, LayoutFileError> {
     match *l {
         Location::Vertex(v) => {
-            if v as usize >= mesh.n_vertices() {
-                let vertices = mesh.n_vertices();
-                return Err(err(entry, Problem::NoSuchVertex { vertex: v as u64, vertices }));
-            }
+            let vertices = mesh.n_vertices();
+            let Some(v) = u32::try_from(v).ok().filter(|&v| (v as usize) < vertices) else {
+                return Err(err(entry, Problem::NoSuchVertex { vertex: v, vertices }));
+            };
             if mesh.is_isolated(v) {
                 return Err(err(entry, Problem::IsolatedVertex { vertex: v }));
             }

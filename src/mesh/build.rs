@@ -53,6 +53,8 @@ pub struct BuiltMesh {
 pub enum MeshError {
     NoVertices,
     NoFaces,
+    /// Every one of the `triangles` faces has zero area (so none is left).
+    AllZeroArea { triangles: usize },
     NonFinite { vertex: u32 },
     IndexOutOfRange { face: u32, index: u32, vertices: usize },
     RepeatedVertex { face: u32, vertex: u32 },
@@ -83,6 +85,11 @@ impl fmt::Display for MeshError {
         match self {
             MeshError::NoVertices => write!(f, "the mesh has no vertices"),
             MeshError::NoFaces => write!(f, "the mesh has no faces"),
+            MeshError::AllZeroArea { triangles } => write!(
+                f,
+                "the mesh has no faces of non-zero area: all {triangles} triangles, from triangle 0 on, are flat \
+                 (their corners lie on one line)"
+            ),
             MeshError::NonFinite { vertex } => {
                 write!(f, "vertex {vertex} has a coordinate that is not a finite number")
             }
@@ -157,19 +164,26 @@ pub fn build_mesh(soup: TriangleSoup) -> Result<BuiltMesh, MeshError> {
         }
     }
     if kept.is_empty() {
-        return Err(MeshError::NoFaces);
+        return Err(if triangles.is_empty() { MeshError::NoFaces } else { MeshError::AllZeroArea { triangles: triangles.len() } });
     }
     let mesh = connect(positions, kept, &soup_face)?;
     repairs.unreferenced_vertices = mesh.vertex_out.iter().filter(|&&h| h == NONE).count();
     Ok(BuiltMesh { mesh, repairs, soup_face })
 }
 
-/// Zero area up to the rounding of the cross product, relative to the longest edge.
+/// Zero area up to the rounding of the cross product, relative to the longest edge. The
+/// edges are first divided by their largest coordinate, so the test is the same at every
+/// scale: squared lengths of a mesh in units of 1e-80 (or 1e80) would underflow (overflow).
 fn has_zero_area(p: &[[f64; 3]], t: &[u32; 3]) -> bool {
-    let [a, b, c] = t.map(|i| p[i as usize]);
-    let u = sub(b, a);
-    let v = sub(c, a);
-    let w = sub(c, b);
+    // Halved, so that differences of coordinates near ±f64::MAX stay finite.
+    let [a, b, c] = t.map(|i| p[i as usize].map(|x| 0.5 * x));
+    let (u, v, w) = (sub(b, a), sub(c, a), sub(c, b));
+    let scale = u.iter().chain(&v).chain(&w).fold(0.0f64, |m, x| m.max(x.abs()));
+    if scale == 0.0 {
+        return true;
+    }
+    let unit = |x: [f64; 3]| x.map(|c| c / scale);
+    let (u, v, w) = (unit(u), unit(v), unit(w));
     let cr = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
     let cross2 = dot(cr, cr);
     let longest2 = dot(u, u).max(dot(v, v)).max(dot(w, w));

@@ -14,6 +14,7 @@
 //! zero, say a side `a + b` opposite a side `c` while another face forces `c = a` — there is no
 //! quad mesh of this layout: [`CountError::Infeasible`] names the pieces that were fixed.
 
+use crate::solve::SpdSolver;
 use std::fmt;
 
 /// One equation `Σ coefficient · n[curve] = 0`.
@@ -27,6 +28,9 @@ pub enum CountError {
     /// Elimination produced a fractional dependent count that rounding cannot repair
     /// (the layout's equations have a non-unit pivot; not seen on quad layouts).
     Fractional { piece: u32 },
+    /// The sparse solver failed on the least-squares system (not seen: it is positive
+    /// definite by construction).
+    Solver(String),
 }
 
 impl fmt::Display for CountError {
@@ -40,151 +44,223 @@ impl fmt::Display for CountError {
             CountError::Fractional { piece } => {
                 write!(f, "the sample count of edge piece {piece} cannot be made an integer")
             }
+            CountError::Solver(e) => write!(f, "the sample counts could not be computed: {e}"),
         }
     }
 }
 
+/// A sparse row: (column, coefficient), columns increasing, no exact zeros.
+type Row = Vec<(usize, f64)>;
+
 /// The counts' equations in reduced row echelon form: `n[pivot] + Σ r·n[free] = rhs`.
 struct Echelon {
     /// Per independent equation: its pivot column, its coefficients, its right-hand side.
-    rows: Vec<(usize, Vec<f64>, f64)>,
+    rows: Vec<(usize, Row, f64)>,
     /// Columns without a pivot.
     free: Vec<usize>,
 }
 
 const EPS: f64 = 1e-9;
 
-/// Reduces `a x = rhs` over the columns in `active` (the others are known and already on the
-/// right-hand side). Pivots on entries ±1 where there are any, so integer equations keep
-/// integer coefficients. `None` when the equations contradict each other.
-fn echelon(mut a: Vec<Vec<f64>>, mut rhs: Vec<f64>, active: &[usize]) -> Option<Echelon> {
+fn coefficient(row: &Row, col: usize) -> f64 {
+    row.binary_search_by_key(&col, |e| e.0).map_or(0.0, |k| row[k].1)
+}
+
+/// `row - factor · pivot`, dropping entries that cancel exactly.
+fn subtract(row: &Row, factor: f64, pivot: &Row) -> Row {
+    let mut out = Vec::with_capacity(row.len() + pivot.len());
+    let (mut i, mut j) = (0, 0);
+    loop {
+        let (c, v) = match (row.get(i), pivot.get(j)) {
+            (None, None) => return out,
+            (Some(&(a, x)), Some(&(b, y))) if a == b => {
+                (i, j) = (i + 1, j + 1);
+                (a, x - factor * y)
+            }
+            (Some(&(a, x)), Some(&(b, _))) if a < b => {
+                i += 1;
+                (a, x)
+            }
+            (Some(&(a, x)), None) => {
+                i += 1;
+                (a, x)
+            }
+            (_, Some(&(b, y))) => {
+                j += 1;
+                (b, -factor * y)
+            }
+        };
+        if v != 0.0 {
+            out.push((c, v));
+        }
+    }
+}
+
+/// Reduces `rows · x = rhs` over the columns in `active` (the rows hold no others; the
+/// known counts are already on the right-hand side), sparsely: each equation touches the
+/// few pieces of two sides of a face, so a layout of ten thousand faces stays small. Pivots
+/// on entries ±1 where there are any, so integer equations keep integer coefficients; among
+/// equal candidates the first in the current row order, as dense elimination with row swaps
+/// does. `None` when the equations contradict each other.
+fn echelon(mut rows: Vec<Row>, mut rhs: Vec<f64>, active: &[usize], n: usize) -> Option<Echelon> {
+    // Rows by column, and the row order (rows are swapped, not moved).
+    let mut by_col: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (r, row) in rows.iter().enumerate() {
+        for &(c, _) in row {
+            by_col[c].push(r);
+        }
+    }
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    let mut position: Vec<usize> = (0..rows.len()).collect();
     let mut rows_done = 0;
     let mut pivots = Vec::new();
     let mut free = Vec::new();
     for &col in active {
-        let candidates = (rows_done..a.len()).filter(|&r| a[r][col].abs() > EPS);
-        let best = candidates.min_by(|&r, &s| {
-            let key = |r: usize| ((a[r][col].abs() - 1.0).abs() > EPS, -a[r][col].abs());
-            key(r).partial_cmp(&key(s)).unwrap_or(std::cmp::Ordering::Equal)
-        });
+        // Rows whose entry in `col` vanished by cancellation are dropped from the list here.
+        by_col[col].retain(|&r| coefficient(&rows[r], col) != 0.0);
+        let key = |r: usize| {
+            let a = coefficient(&rows[r], col).abs();
+            ((a - 1.0).abs() > EPS, -a)
+        };
+        let best = by_col[col]
+            .iter()
+            .copied()
+            .filter(|&r| position[r] >= rows_done && coefficient(&rows[r], col).abs() > EPS)
+            .min_by(|&r, &s| key(r).partial_cmp(&key(s)).unwrap_or(std::cmp::Ordering::Equal).then(position[r].cmp(&position[s])));
         let Some(r) = best else {
             free.push(col);
             continue;
         };
-        a.swap(rows_done, r);
-        rhs.swap(rows_done, r);
-        let p = a[rows_done][col];
-        for x in a[rows_done].iter_mut() {
-            *x /= p;
+        let other = order[rows_done];
+        order.swap(rows_done, position[r]);
+        position.swap(r, other);
+        let p = coefficient(&rows[r], col);
+        for e in rows[r].iter_mut() {
+            e.1 /= p;
         }
-        rhs[rows_done] /= p;
-        for r in 0..a.len() {
-            let factor = a[r][col];
-            if r != rows_done && factor.abs() > EPS {
-                for c in 0..a[r].len() {
-                    a[r][c] -= factor * a[rows_done][c];
-                }
-                rhs[r] -= factor * rhs[rows_done];
+        rhs[r] /= p;
+        let pivot = std::mem::take(&mut rows[r]);
+        for s in by_col[col].clone() {
+            let factor = coefficient(&rows[s], col);
+            if s == r || factor.abs() <= EPS {
+                continue;
             }
+            let updated = subtract(&rows[s], factor, &pivot);
+            for &(c, _) in &updated {
+                if coefficient(&rows[s], c) == 0.0 {
+                    by_col[c].push(s);
+                }
+            }
+            rows[s] = updated;
+            rhs[s] -= factor * rhs[r];
         }
+        rows[r] = pivot;
         pivots.push(col);
         rows_done += 1;
     }
-    if rhs[rows_done..].iter().any(|v| v.abs() > 1e-7) {
+    if order[rows_done..].iter().any(|&r| rhs[r].abs() > 1e-7) {
         return None;
     }
-    let rows = pivots.into_iter().enumerate().map(|(r, col)| (col, std::mem::take(&mut a[r]), rhs[r])).collect();
+    let rows = pivots.into_iter().enumerate().map(|(k, col)| (col, std::mem::take(&mut rows[order[k]]), rhs[order[k]])).collect();
     Some(Echelon { rows, free })
 }
 
-/// Solves the small symmetric positive definite system `m x = b` (Cholesky), in place in `b`.
-fn solve_spd(mut m: Vec<Vec<f64>>, b: &mut [f64]) {
-    let n = b.len();
-    for j in 0..n {
-        let d = (m[j][j] - (0..j).map(|k| m[j][k] * m[j][k]).sum::<f64>()).max(1e-300).sqrt();
-        m[j][j] = d;
-        for i in j + 1..n {
-            m[i][j] = (m[i][j] - (0..j).map(|k| m[i][k] * m[j][k]).sum::<f64>()) / d;
-        }
-    }
-    for i in 0..n {
-        b[i] = (b[i] - (0..i).map(|k| m[i][k] * b[k]).sum::<f64>()) / m[i][i];
-    }
-    for i in (0..n).rev() {
-        b[i] = (b[i] - (i + 1..n).map(|k| m[k][i] * b[k]).sum::<f64>()) / m[i][i];
-    }
-}
-
 /// The continuous counts nearest `desired` under the reduced equations, as values of the
-/// free columns: minimize Σ_free (n − d)² + Σ_pivot (rhs − r·n_free − d_pivot)².
-fn continuous_free(e: &Echelon, desired: &[f64]) -> Vec<f64> {
+/// free columns: minimize Σ_free (n − d)² + Σ_pivot (rhs − r·n_free − d_pivot)², through the
+/// normal equations (I + RᵀR) n_free = d_free + Rᵀ (rhs − d_pivot), a sparse positive
+/// definite system (each row of R couples the few free pieces of one equation).
+///
+/// # Errors
+/// [`CountError::Solver`] if the sparse solver fails (it has no reason to: the matrix is
+/// the identity plus a positive semidefinite one).
+fn continuous_free(e: &Echelon, desired: &[f64], n: usize) -> Result<Vec<f64>, CountError> {
     let k = e.free.len();
-    // (I + RᵀR) n_free = d_free + Rᵀ (rhs − d_pivot)
-    let mut m = vec![vec![0.0; k]; k];
-    let mut b: Vec<f64> = e.free.iter().map(|&c| desired[c]).collect();
-    for (i, row) in m.iter_mut().enumerate() {
-        row[i] = 1.0;
+    let mut index = vec![u32::MAX; n];
+    for (i, &c) in e.free.iter().enumerate() {
+        index[c] = i as u32;
     }
+    let mut b: Vec<f64> = e.free.iter().map(|&c| desired[c]).collect();
+    let mut entries: Vec<(u32, u32)> = (0..k as u32).map(|i| (i, i)).collect();
+    let mut values = vec![1.0; k];
     for (pivot, coef, rhs) in &e.rows {
-        let r: Vec<f64> = e.free.iter().map(|&c| coef[c]).collect();
-        for i in 0..k {
-            if r[i] == 0.0 {
-                continue;
-            }
-            b[i] += r[i] * (rhs - desired[*pivot]);
-            for j in 0..k {
-                m[i][j] += r[i] * r[j];
+        let r: Vec<(u32, f64)> =
+            coef.iter().filter(|&&(c, _)| index[c] != u32::MAX).map(|&(c, v)| (index[c], v)).collect();
+        for &(i, ri) in &r {
+            b[i as usize] += ri * (rhs - desired[*pivot]);
+            for &(j, rj) in r.iter().filter(|&&(j, _)| j <= i) {
+                entries.push((i, j));
+                values.push(ri * rj);
             }
         }
     }
-    solve_spd(m, &mut b);
-    b
+    let solver_error = |e: crate::solve::SolveError| CountError::Solver(e.to_string());
+    let mut solver = SpdSolver::new(k, &entries).map_err(solver_error)?;
+    solver.factor(&values).map_err(solver_error)?;
+    solver.solve_in_place(&mut b).map_err(solver_error)?;
+    Ok(b)
 }
 
 /// Integer sample counts, one per piece, each at least one, satisfying every equation,
-/// near `desired` (paper Section 4).
+/// near `desired` (paper Section 4). Desired counts below one (or not finite, which
+/// callers refuse first: see [`super::check_edge_length`]) count as one.
 ///
 /// # Errors
 /// [`CountError`] when no such counts exist (see the module documentation).
 pub fn sample_counts(desired: &[f64], equations: &[Equation]) -> Result<Vec<u32>, CountError> {
     let n = desired.len();
     let desired: Vec<f64> = desired.iter().map(|&d| if d.is_finite() { d.max(1.0) } else { 1.0 }).collect();
-    let dense: Vec<Vec<f64>> = equations
+    // Each equation as a sparse row, a piece named twice summed once.
+    let sparse: Vec<Row> = equations
         .iter()
         .map(|eq| {
-            let mut row = vec![0.0; n];
-            for &(c, k) in eq {
-                row[c as usize] += k as f64;
-            }
+            let mut row: Row = eq.iter().map(|&(c, k)| (c as usize, k as f64)).collect();
+            row.sort_by_key(|e| e.0);
+            row.dedup_by(|a, b| {
+                let same = a.0 == b.0;
+                if same {
+                    b.1 += a.1;
+                }
+                same
+            });
+            row.retain(|e| e.1 != 0.0);
             row
         })
         .collect();
-    let mut at_one: Vec<u32> = Vec::new();
+    let mut at_one = vec![false; n];
+    let mut pieces_at_one: Vec<u32> = Vec::new();
     loop {
-        let active: Vec<usize> = (0..n).filter(|c| !at_one.contains(&(*c as u32))).collect();
+        let active: Vec<usize> = (0..n).filter(|&c| !at_one[c]).collect();
         let rhs: Vec<f64> =
-            dense.iter().map(|row| -at_one.iter().map(|&c| row[c as usize]).sum::<f64>()).collect();
-        let infeasible = || CountError::Infeasible { pieces_at_one: at_one.clone() };
-        let e = echelon(dense.clone(), rhs, &active).ok_or_else(infeasible)?;
-        let continuous = continuous_free(&e, &desired);
+            sparse.iter().map(|row| -row.iter().filter(|e| at_one[e.0]).map(|e| e.1).sum::<f64>()).collect();
+        let rows: Vec<Row> = sparse.iter().map(|row| row.iter().copied().filter(|e| !at_one[e.0]).collect()).collect();
+        let infeasible = || CountError::Infeasible { pieces_at_one: pieces_at_one.clone() };
+        let e = echelon(rows, rhs, &active, n).ok_or_else(infeasible)?;
+        let continuous = continuous_free(&e, &desired, n)?;
         let mut counts = vec![1.0; n];
         for (&c, &x) in e.free.iter().zip(&continuous) {
             counts[c] = x.round().max(1.0);
         }
+        let mut is_free = vec![false; n];
+        for &c in &e.free {
+            is_free[c] = true;
+        }
         let mut below = None;
         for (pivot, coef, rhs) in &e.rows {
-            let v = rhs - e.free.iter().map(|&c| coef[c] * counts[c]).sum::<f64>();
+            let v = rhs - coef.iter().filter(|&&(c, _)| is_free[c]).map(|&(c, r)| r * counts[c]).sum::<f64>();
             if (v - v.round()).abs() > 1e-6 {
                 return Err(CountError::Fractional { piece: *pivot as u32 });
             }
             counts[*pivot] = v.round();
             if v.round() < 1.0 && below.is_none() {
-                below = Some(*pivot as u32);
+                below = Some(*pivot);
             }
         }
         match below {
             None => return Ok(counts.iter().map(|&v| v as u32).collect()),
-            Some(c) => at_one.push(c),
+            Some(c) => {
+                at_one[c] = true;
+                pieces_at_one.push(c as u32);
+            }
         }
     }
 }
@@ -252,6 +328,33 @@ mod tests {
             let counts = sample_counts(&desired, &eqs).unwrap();
             assert!(holds(&counts, &eqs), "{counts:?}");
             assert!(counts.iter().all(|&c| c >= 1));
+        }
+    }
+
+    #[test]
+    fn ten_thousand_faces_are_counted_sparsely() {
+        // A 100 × 100-face grid: horizontal pieces h(i, j) (i < 100, j ≤ 100) and vertical
+        // ones v(i, j) (i ≤ 100, j < 100); each face ties bottom to top and left to right, so
+        // every column of h and every row of v is one chord of 101 pieces and gets the rounded
+        // mean of their desires. Dense elimination holds 20,000 × 20,200 coefficients (3.2 GB).
+        let f = 100usize;
+        let h = |i: usize, j: usize| (j * f + i) as u32;
+        let v = |i: usize, j: usize| (f * (f + 1) + j * (f + 1) + i) as u32;
+        let mut eqs = Vec::new();
+        for j in 0..f {
+            for i in 0..f {
+                eqs.push(vec![(h(i, j), 1), (h(i, j + 1), -1)]);
+                eqs.push(vec![(v(i, j), 1), (v(i + 1, j), -1)]);
+            }
+        }
+        let n = 2 * f * (f + 1);
+        let desired: Vec<f64> = (0..n).map(|k| 3.0 + ((k * 7919) % 1000) as f64 / 250.0).collect();
+        let counts = sample_counts(&desired, &eqs).unwrap();
+        assert!(holds(&counts, &eqs));
+        for i in 0..f {
+            let chord: Vec<u32> = (0..=f).map(|j| h(i, j)).collect();
+            let mean = chord.iter().map(|&c| desired[c as usize]).sum::<f64>() / chord.len() as f64;
+            assert_eq!(counts[chord[0] as usize], mean.round() as u32, "column {i}");
         }
     }
 }

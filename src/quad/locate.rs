@@ -63,6 +63,40 @@ fn closest(t: &[[f64; 2]; 3], p: [f64; 2]) -> [f64; 2] {
     (0..3).map(on_side).min_by(|a, b| d2(*a).total_cmp(&d2(*b))).unwrap_or(p)
 }
 
+/// At most this many cell entries per triangle (plus a constant) in a [`ChartIndex`]: on
+/// ordinary charts, cells sized for two triangles each, a triangle covers two to four.
+const FILINGS_PER_TRIANGLE: f64 = 16.0;
+
+/// Cells of a grid of `cell`-sized squares over `extent`, at most 2048 along each axis.
+fn grid_size(extent: [f64; 2], cell: f64) -> [usize; 2] {
+    [((extent[0] / cell) as usize + 1).min(2048), ((extent[1] / cell) as usize + 1).min(2048)]
+}
+
+fn cell_of(p: [f64; 2], origin: [f64; 2], cell: f64, size: [usize; 2]) -> [usize; 2] {
+    let c = |k: usize| (((p[k] - origin[k]) / cell).floor().max(0.0) as usize).min(size[k] - 1);
+    [c(0), c(1)]
+}
+
+fn cell_range(t: &[[f64; 2]; 3], origin: [f64; 2], cell: f64, size: [usize; 2]) -> Option<([usize; 2], [usize; 2])> {
+    if t.iter().flatten().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let lo = t.iter().fold([f64::INFINITY; 2], |m, p| [m[0].min(p[0]), m[1].min(p[1])]);
+    let hi = t.iter().fold([f64::NEG_INFINITY; 2], |m, p| [m[0].max(p[0]), m[1].max(p[1])]);
+    Some((cell_of(lo, origin, cell, size), cell_of(hi, origin, cell, size)))
+}
+
+/// How many cell entries filing `triangles` by their bounding boxes in cells of size `cell`
+/// takes (counted, not made).
+fn filings(triangles: &[(u32, [[f64; 2]; 3])], origin: [f64; 2], cell: f64, extent: [f64; 2]) -> f64 {
+    let size = grid_size(extent, cell);
+    triangles
+        .iter()
+        .filter_map(|(_, t)| cell_range(t, origin, cell, size))
+        .map(|(a, b)| ((b[0] - a[0] + 1) * (b[1] - a[1] + 1)) as f64)
+        .sum()
+}
+
 impl ChartIndex {
     /// Indexes `triangles` (id, corners in the chart). About two triangles per cell.
     pub fn new(triangles: Vec<(u32, [[f64; 2]; 3])>) -> ChartIndex {
@@ -82,15 +116,18 @@ impl ChartIndex {
         }
         let extent = [(hi[0] - lo[0]).max(1e-300), (hi[1] - lo[1]).max(1e-300)];
         let target = (triangles.len() as f64 / 2.0).max(1.0);
-        let cell = ((extent[0] * extent[1] / target).sqrt()).max(extent[0].max(extent[1]) / 2048.0);
-        let size = [((extent[0] / cell) as usize + 1).min(2048), ((extent[1] / cell) as usize + 1).min(2048)];
+        let mut cell = ((extent[0] * extent[1] / target).sqrt()).max(extent[0].max(extent[1]) / 2048.0);
+        // A triangle is filed under every cell its bounding box covers. Long slivers (a fan
+        // of them round one vertex) cover many cells each, so the filing would grow with the
+        // square of the triangle count: coarser cells until the filing stays linear.
+        let budget = FILINGS_PER_TRIANGLE * triangles.len() as f64 + 1024.0;
+        while filings(&triangles, lo, cell, extent) > budget {
+            cell *= 2.0;
+        }
+        let size = grid_size(extent, cell);
         let mut index = ChartIndex { triangles, origin: lo, cell, size, cells: vec![Vec::new(); size[0] * size[1]] };
         for (i, (_, t)) in index.triangles.iter().enumerate() {
-            if t.iter().flatten().any(|x| !x.is_finite()) {
-                continue;
-            }
-            let (a, b) = (index.cell_of(t.iter().fold([f64::INFINITY; 2], |m, p| [m[0].min(p[0]), m[1].min(p[1])])),
-                index.cell_of(t.iter().fold([f64::NEG_INFINITY; 2], |m, p| [m[0].max(p[0]), m[1].max(p[1])])));
+            let Some((a, b)) = index.cell_range(t) else { continue };
             for y in a[1]..=b[1] {
                 for x in a[0]..=b[0] {
                     index.cells[y * size[0] + x].push(i as u32);
@@ -100,9 +137,14 @@ impl ChartIndex {
         index
     }
 
+    /// The first and last cell (x, y) of the bounding box of `t`; `None` for a triangle
+    /// with a coordinate that is not finite.
+    fn cell_range(&self, t: &[[f64; 2]; 3]) -> Option<([usize; 2], [usize; 2])> {
+        cell_range(t, self.origin, self.cell, self.size)
+    }
+
     fn cell_of(&self, p: [f64; 2]) -> [usize; 2] {
-        let c = |k: usize| (((p[k] - self.origin[k]) / self.cell).floor().max(0.0) as usize).min(self.size[k] - 1);
-        [c(0), c(1)]
+        cell_of(p, self.origin, self.cell, self.size)
     }
 
     /// The triangle containing `p`, allowing `tolerance` (relative to the triangle) outside
@@ -169,5 +211,27 @@ mod tests {
         let t = tris[near.triangle as usize].1;
         let q = [0, 1].map(|k| near.bary[0] * t[0][k] + near.bary[1] * t[1][k] + near.bary[2] * t[2][k]);
         assert!((q[0] - 10.0).abs() < 1e-12 && (q[1] - 3.0).abs() < 1e-12, "{q:?}");
+    }
+
+    #[test]
+    fn a_fan_of_slivers_is_filed_in_linear_memory() {
+        // 20,000 slivers round the origin: each one's bounding box spans a good part of the
+        // chart, so filing by bounding boxes in cells sized for two triangles each would take
+        // hundreds of entries per triangle.
+        let n = 20_000u32;
+        let corner = |k: u32| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            [a.cos(), a.sin()]
+        };
+        let tris: Vec<(u32, [[f64; 2]; 3])> = (0..n).map(|k| (k, [[0.0, 0.0], corner(k), corner(k + 1)])).collect();
+        let index = ChartIndex::new(tris.clone());
+        let entries: usize = index.cells.iter().map(Vec::len).sum();
+        assert!(entries as f64 <= FILINGS_PER_TRIANGLE * n as f64 + 1024.0, "{entries} entries");
+        for p in [[0.5, 0.01], [-0.3, -0.6], [0.001, 0.0005], [0.99, 0.0]] {
+            let hit = index.locate(p, 1e-9).unwrap();
+            let t = tris[hit.triangle as usize].1;
+            let q = [0, 1].map(|k| hit.bary[0] * t[0][k] + hit.bary[1] * t[1][k] + hit.bary[2] * t[2][k]);
+            assert!((q[0] - p[0]).abs() < 1e-12 && (q[1] - p[1]).abs() < 1e-12, "{p:?} → {q:?}");
+        }
     }
 }

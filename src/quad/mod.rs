@@ -60,7 +60,7 @@ pub fn default_edge_length(mesh: &Mesh) -> f64 {
 }
 
 /// More quads than this is taken for a mistaken edge length, not a wish.
-pub const MAX_QUADS: usize = 20_000_000;
+pub const MAX_QUADS: u64 = 20_000_000;
 
 /// Why no quad mesh came out.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,8 +70,9 @@ pub enum QuadError {
     /// The sample counts cannot be made consistent; `pieces` names the curves involved
     /// (`edges[3]`, `boundary loop 0`).
     Counts { error: CountError, pieces: Vec<String> },
-    /// The edge length asks for more than [`MAX_QUADS`] quads.
-    TooMany { quads: usize },
+    /// The edge length asks for more than [`MAX_QUADS`] quads: about `quads` (infinite when
+    /// a curve's length over the edge length overflows).
+    TooMany { quads: f64 },
 }
 
 impl fmt::Display for QuadError {
@@ -85,12 +86,51 @@ impl fmt::Display for QuadError {
                 pieces.join(", ")
             ),
             QuadError::Counts { error, .. } => write!(f, "{error}"),
-            QuadError::TooMany { quads } => write!(
-                f,
-                "the edge length asks for {quads} quads (more than {MAX_QUADS}); choose a longer edge length"
-            ),
+            QuadError::TooMany { quads } => {
+                let about = if !quads.is_finite() {
+                    "more quads than can be counted".to_string()
+                } else if *quads < 1e15 {
+                    format!("about {quads:.0} quads")
+                } else {
+                    format!("about {quads:.1e} quads")
+                };
+                write!(f, "the edge length asks for {about} (more than {MAX_QUADS}); choose a longer edge length")
+            }
         }
     }
+}
+
+/// The number of quads the face grids of `counts` make (side 0 times side 1 of every
+/// face), in floating point so that no sum or product wraps; `counts[c]` is the number of
+/// segments of curve `c`, or a wish for it (anything below one counts as one, as
+/// [`sample_counts`] makes it). Opposite sides may still differ (desired counts): the
+/// longer one counts. Infinite or NaN counts give an infinite total.
+pub fn grid_quads(layout: &SurfaceLayout, counts: impl Fn(u32) -> f64) -> f64 {
+    let side = |f: &crate::layout::Face, s: usize| -> f64 {
+        let sum = |s: usize| f.side(s).iter().map(|d| counts(d.curve)).map(|c| if c.is_nan() { f64::INFINITY } else { c.max(1.0) }).sum::<f64>();
+        sum(s).max(sum(s + 2))
+    };
+    layout.faces.iter().map(|f| side(f, 0) * side(f, 1)).sum()
+}
+
+/// Refuses an edge length that asks for more than [`MAX_QUADS`] quads, from the layout's
+/// curve lengths alone: callers may ask before anything is parameterized or allocated.
+///
+/// # Errors
+/// [`QuadError::EdgeLength`] or [`QuadError::TooMany`].
+pub fn check_edge_length(layout: &SurfaceLayout, edge_length: f64) -> Result<(), QuadError> {
+    if !(edge_length.is_finite() && edge_length > 0.0) {
+        return Err(QuadError::EdgeLength(edge_length));
+    }
+    within_cap(grid_quads(layout, |c| layout.curves[c as usize].curve.length / edge_length))
+}
+
+/// [`QuadError::TooMany`] for more than [`MAX_QUADS`] quads (never NaN: see [`grid_quads`]).
+fn within_cap(quads: f64) -> Result<(), QuadError> {
+    if quads > MAX_QUADS as f64 {
+        return Err(QuadError::TooMany { quads });
+    }
+    Ok(())
 }
 
 /// The equations of Section 4: per face, side 0 against side 2 and side 1 against side 3.
@@ -197,29 +237,18 @@ pub struct Extraction {
 /// more than [`MAX_QUADS`] quads.
 pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptions) -> Result<(QuadMesh, Extraction), QuadError> {
     let h = options.edge_length;
-    if !(h.is_finite() && h > 0.0) {
-        return Err(QuadError::EdgeLength(h));
-    }
+    check_edge_length(layout, h)?;
     let desired: Vec<f64> = layout.curves.iter().map(|c| c.curve.length / h).collect();
     let counts = sample_counts(&desired, &count_equations(layout)).map_err(|error| {
         let pieces = match &error {
             CountError::Infeasible { pieces_at_one } => pieces_at_one.clone(),
             CountError::Fractional { piece } => vec![*piece],
+            CountError::Solver(_) => Vec::new(),
         };
         QuadError::Counts { error, pieces: pieces.iter().map(|&c| layout.curves[c as usize].source.to_string()).collect() }
     })?;
-    let quads: usize = layout
-        .faces
-        .iter()
-        .map(|f| {
-            let n: u32 = f.side(0).iter().map(|d| counts[d.curve as usize]).sum();
-            let m: u32 = f.side(1).iter().map(|d| counts[d.curve as usize]).sum();
-            n as usize * m as usize
-        })
-        .sum();
-    if quads > MAX_QUADS {
-        return Err(QuadError::TooMany { quads });
-    }
+    // Rounding may add a little to the desired counts: count again, the counts now agree.
+    within_cap(grid_quads(layout, |c| counts[c as usize] as f64))?;
 
     let cut = param.cut();
     let solution = param.solution();

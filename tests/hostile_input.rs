@@ -1,0 +1,156 @@
+//! Hostile input (issue 21): inputs that once wrapped counts, ran out of memory, hung, or
+//! printed what they were given unescaped. Each must give exit status 2 and one `error:`
+//! line naming the element (shared/spec/cli.md), quickly and in bounded memory. The inputs
+//! are made here; the big ones are refused before anything of their size is allocated, so
+//! every test runs in seconds.
+
+mod common;
+
+use common::{run_cli, shared_mesh};
+use std::path::{Path, PathBuf};
+
+fn layout(name: &str) -> String {
+    format!("{}/www/layouts/{name}.layout.json", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn mushroom() -> String {
+    shared_mesh("mushroom.obj").to_string_lossy().into_owned()
+}
+
+/// A fresh scratch directory for one test.
+fn scratch(test: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hostile_input").join(test);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs the command line and returns its one `error:` line, checking exit status 2 and that
+/// standard error holds nothing else.
+fn one_error_line(args: &[&str]) -> String {
+    let (code, stdout, stderr) = run_cli(args);
+    assert_eq!(code, 2, "{args:?}: exit {code}, stdout {stdout:.300}, stderr {stderr:.300}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{args:?}: one line expected: {stderr:.600}");
+    assert!(lines[0].starts_with("error: "), "{stderr:.300}");
+    lines[0].to_string()
+}
+
+/// Item 1: per-side counts summed as u32 and products as usize wrapped past the cap (an
+/// abort natively, a trap in wasm), and the message printed a wrapped number.
+#[test]
+fn edge_lengths_whose_counts_overflow_are_refused_with_the_real_count() {
+    let grid = layout("mushroom-grid");
+    for l in ["2e-10", "3e-7"] {
+        let line = one_error_line(&["remesh", &mushroom(), "--layout", &grid, "--edge-length", l]);
+        assert!(line.contains("mushroom-grid.layout.json") && line.contains("quads"), "{line}");
+        assert!(line.contains("choose a longer edge length"), "{line}");
+        // The estimate printed is the surface's area over the edge length squared, not a
+        // wrapped remainder: the mushroom's area is of the order of one.
+        let about = line.split("about ").nth(1).and_then(|s| s.split(' ').next()).expect(&line);
+        let quads: f64 = about.parse().expect(&line);
+        let h: f64 = l.parse().unwrap();
+        assert!(quads > 1e-3 / (h * h) && quads < 1e3 / (h * h), "{l}: {line}");
+    }
+    // 1e600 quads: beyond any number a count holds, said so rather than wrapped.
+    let line = one_error_line(&["remesh", &mushroom(), "--layout", &grid, "--edge-length", "1e-300"]);
+    assert!(line.contains("more quads than can be counted"), "{line}");
+}
+
+/// Item 2: an edge length below ~1e-308 made every count infinite, and infinite counts were
+/// taken as one: the coarsest mesh, exit 0.
+#[test]
+fn an_edge_length_so_small_that_counts_are_infinite_is_refused() {
+    let line = one_error_line(&["remesh", &mushroom(), "--layout", &layout("mushroom-grid"), "--edge-length", "1e-320"]);
+    assert!(line.contains("more quads than can be counted"), "{line}");
+}
+
+/// A layout document with `nodes` and no edges, as text.
+fn layout_text(nodes: &str) -> String {
+    format!(r#"{{"format": "quad-layout", "version": 1, "nodes": [{nodes}], "edges": []}}"#)
+}
+
+/// Item 7: a key, token or option value of megabytes became an error line of megabytes,
+/// and control bytes (escape sequences) reached the terminal.
+#[test]
+fn error_lines_quote_input_cut_short_and_escaped() {
+    let dir = scratch("quoting");
+    let short_and_clean = |line: &str| {
+        assert!(line.len() < 400, "{} bytes: {:.300}", line.len(), line);
+        assert!(!line.chars().any(char::is_control), "{line:?}");
+    };
+    let huge = "k".repeat(5_000_000);
+    // A layout key: of megabytes, and one holding an escape sequence and a newline.
+    for (key, shows) in [(huge.as_str(), "… (5000000 bytes)"), ("\u{1b}[2J\u{1b}[31mred\nline", "\\u{1b}[2J")] {
+        let path = dir.join("key.layout.json");
+        let json_key = serde_json::to_string(key).unwrap();
+        std::fs::write(&path, layout_text(&format!(r#"{{"vertex": 0, {json_key}: 1}}"#))).unwrap();
+        let line = one_error_line(&["check", &mushroom(), "--layout", path.to_str().unwrap()]);
+        short_and_clean(&line);
+        assert!(line.contains("nodes[0]: unknown key 'k") || line.contains("nodes[0]: unknown key '\\u{1b}"), "{line}");
+        assert!(line.contains(shows), "{line}");
+    }
+    // A mesh token.
+    let obj = dir.join("token.obj");
+    std::fs::write(&obj, format!("v 0 0 0\nv 1 {huge}\u{1b}[31m 0\n")).unwrap();
+    let line = one_error_line(&["check", obj.to_str().unwrap()]);
+    short_and_clean(&line);
+    assert!(line.contains("OBJ line 2: 'kkk") && line.contains("is not a number"), "{line}");
+    // An option value (as long as one argument may be) and a file name with control bytes.
+    let long = &huge[..100_000];
+    let line = one_error_line(&["remesh", &mushroom(), "--layout", "x.json", "--chart", &format!("\u{1b}]0;owned\u{7}{long}")]);
+    short_and_clean(&line);
+    assert!(line.contains("--chart: '\\u{1b}]0;owned\\u{7}kkk"), "{line}");
+    let line = one_error_line(&["check", "no\u{1b}[31mfile.obj"]);
+    short_and_clean(&line);
+    assert!(line.contains("no\\u{1b}[31mfile.obj: cannot read"), "{line}");
+}
+
+/// Item 8: the zero-area test squared the cross product, which underflows (overflows) for
+/// meshes in units near 1e-80 (1e80): every face was dropped, "a mesh with no faces".
+#[test]
+fn meshes_at_extreme_scales_keep_their_faces() {
+    let dir = scratch("scales");
+    let grid = common::grid(6);
+    for scale in [1e-80, 1e-150, 1e80, 1e150, 1e300] {
+        let mut text = String::new();
+        for p in grid.positions() {
+            text += &format!("v {:e} {:e} {:e}\n", p[0] * scale, p[1] * scale, (p[0] * p[1]) * scale);
+        }
+        for t in grid.triangles() {
+            text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        let path = dir.join(format!("grid-{scale:e}.obj"));
+        std::fs::write(&path, text).unwrap();
+        let (code, stdout, stderr) = run_cli(&["check", path.to_str().unwrap()]);
+        assert_eq!(code, 0, "{scale:e}: {stderr}");
+        let triangles = stdout.lines().find(|l| l.starts_with("triangles:")).expect(&stdout);
+        assert!(triangles.ends_with(" 72"), "{scale:e}: {stdout}");
+        assert!(stdout.contains("repairs:        none"), "{scale:e}: {stdout}");
+    }
+    // Flat triangles are still flat at any scale, and a mesh of nothing else is refused by
+    // saying so.
+    for scale in [1e-80, 1.0, 1e80] {
+        let path = dir.join("flat.obj");
+        let text = format!("v 0 0 0\nv {0:e} 0 0\nv {1:e} 0 0\nv {0:e} {0:e} 0\nf 1 2 3\nf 1 3 4\n", scale, 2.0 * scale);
+        std::fs::write(&path, text).unwrap();
+        let (code, stdout, stderr) = run_cli(&["check", path.to_str().unwrap()]);
+        assert_eq!(code, 0, "{scale:e}: {stderr}");
+        assert!(stdout.contains(" 1 zero-area faces removed"), "{scale:e}: {stdout}");
+        std::fs::write(&path, format!("v 0 0 0\nv {0:e} 0 0\nv {1:e} 0 0\nf 1 2 3\n", scale, 2.0 * scale)).unwrap();
+        let line = one_error_line(&["check", path.to_str().unwrap()]);
+        assert!(line.contains("all 1 triangles") && line.contains("triangle 0"), "{line}");
+    }
+}
+
+/// Item 9: a vertex index past u32 said "the mesh has 0 vertices".
+#[test]
+fn a_vertex_index_past_32_bits_is_told_the_real_vertex_count() {
+    let dir = scratch("vertex-index");
+    for v in ["4294967296", "18446744073709551615", "2337"] {
+        let path = dir.join("v.layout.json");
+        std::fs::write(&path, layout_text(&format!(r#"{{"vertex": {v}}}"#))).unwrap();
+        let line = one_error_line(&["check", &mushroom(), "--layout", path.to_str().unwrap()]);
+        assert!(line.ends_with(&format!("nodes[0]: vertex {v} does not exist (the mesh has 2337 vertices)")), "{line}");
+    }
+}
