@@ -30,6 +30,21 @@ pub fn cross(a: Vec3, b: Vec3) -> Vec3 {
 pub fn norm(a: Vec3) -> f64 {
     dot(a, a).sqrt()
 }
+pub fn add(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+pub fn scale(s: f64, a: Vec3) -> Vec3 {
+    [s * a[0], s * a[1], s * a[2]]
+}
+/// `a` with unit length, or zero if `a` is (nearly) zero.
+pub fn unit(a: Vec3) -> Vec3 {
+    let l = norm(a);
+    if l > 1e-300 {
+        scale(1.0 / l, a)
+    } else {
+        [0.0; 3]
+    }
+}
 
 /// The angle between `u` and `w`, in [0, π]. `atan2` stays accurate near 0 and π, unlike
 /// `acos`.

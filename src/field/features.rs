@@ -1,0 +1,174 @@
+//! Sharp feature edges and the lines they form (issue 22; `--feature-angle`).
+//!
+//! An interior mesh edge is sharp when the normals of its two triangles differ by more than
+//! the feature angle. Sharp edges chain into feature lines; a line is cut at its *corners*:
+//! vertices where other than two sharp edges meet, or where the line turns sharply. Small
+//! groups of sharp edges (noise on scanned surfaces) are dropped.
+
+use crate::geom::{cross, dot, norm, sub, unit};
+use crate::mesh::geometry::bounding_box;
+use crate::mesh::Mesh;
+
+
+/// The sharp edges kept, and the feature lines between corners.
+#[derive(Debug, Clone, Default)]
+pub struct Features {
+    /// Per mesh edge: part of a kept feature line.
+    pub sharp: Vec<bool>,
+    /// Per vertex: number of kept sharp edges at it.
+    pub degree: Vec<u32>,
+    /// Vertices where feature lines end, meet or bend: layout nodes.
+    pub corners: Vec<u32>,
+    /// Each feature line as its vertices in order, from corner to corner (a closed line
+    /// without corners starts and ends at the same vertex).
+    pub lines: Vec<Vec<u32>>,
+}
+
+/// A line turning by more than this at a vertex has a corner there.
+const CORNER_TURN_DEG: f64 = 45.0;
+/// A sharp edge is a feature only if it bends this many times more than the most bent
+/// non-sharp edge of its two triangles.
+const CREASE_RATIO: f64 = 3.0;
+/// Groups of sharp edges shorter than this fraction of the bounding-box diagonal are noise.
+const MIN_GROUP_LENGTH: f64 = 0.1;
+
+/// Finds the sharp edges of `mesh` (dihedral angle above `angle_deg`) and their lines.
+pub fn find_features(mesh: &Mesh, angle_deg: f64) -> Features {
+    let ne = mesh.n_edges();
+    let normals: Vec<[f64; 3]> = mesh
+        .triangles()
+        .iter()
+        .map(|t| {
+            let p = t.map(|v| mesh.position(v));
+            unit(cross(sub(p[1], p[0]), sub(p[2], p[0])))
+        })
+        .collect();
+    let limit = angle_deg.to_radians();
+    let dihedral: Vec<f64> = (0..ne as u32)
+        .map(|e| {
+            let h = 2 * e;
+            if mesh.is_boundary_edge(e) {
+                return 0.0;
+            }
+            dot(normals[mesh.face(h) as usize], normals[mesh.face(h ^ 1) as usize]).clamp(-1.0, 1.0).acos()
+        })
+        .collect();
+    // A crease stands out from the edges beside it; on a coarse curved surface every edge
+    // bends about as much, and none is a feature.
+    let mut sharp: Vec<bool> = (0..ne as u32)
+        .map(|e| {
+            let d = dihedral[e as usize];
+            if d <= limit {
+                return false;
+            }
+            let beside = [2 * e, 2 * e + 1]
+                .into_iter()
+                .flat_map(|h| [mesh.next(h), mesh.prev(h)])
+                .map(|g| dihedral[mesh.edge(g) as usize])
+                .filter(|&b| b <= limit)
+                .fold(0.0, f64::max);
+            d > CREASE_RATIO * beside
+        })
+        .collect();
+
+    // Drop small groups of sharp edges.
+    let (lo, hi) = bounding_box(mesh);
+    let min_len = MIN_GROUP_LENGTH * norm(sub(hi, lo));
+    let len = |e: u32| norm(sub(mesh.position(mesh.to_vertex(2 * e)), mesh.position(mesh.from_vertex(2 * e))));
+    let mut seen = vec![false; ne];
+    for s in 0..ne {
+        if !sharp[s] || seen[s] {
+            continue;
+        }
+        let mut group = vec![s as u32];
+        seen[s] = true;
+        let mut k = 0;
+        while k < group.len() {
+            let e = group[k];
+            k += 1;
+            for v in [mesh.to_vertex(2 * e), mesh.from_vertex(2 * e)] {
+                for h in mesh.outgoing(v) {
+                    let f = mesh.edge(h) as usize;
+                    if sharp[f] && !seen[f] {
+                        seen[f] = true;
+                        group.push(f as u32);
+                    }
+                }
+            }
+        }
+        if group.iter().map(|&e| len(e)).sum::<f64>() < min_len {
+            for e in group {
+                sharp[e as usize] = false;
+            }
+        }
+    }
+
+    let mut degree = vec![0u32; mesh.n_vertices()];
+    for e in 0..ne as u32 {
+        if sharp[e as usize] {
+            degree[mesh.to_vertex(2 * e) as usize] += 1;
+            degree[mesh.from_vertex(2 * e) as usize] += 1;
+        }
+    }
+    let sharp_out = |v: u32| mesh.outgoing(v).filter(|&h| sharp[mesh.edge(h) as usize]).collect::<Vec<_>>();
+    let mut is_corner = vec![false; mesh.n_vertices()];
+    for v in 0..mesh.n_vertices() as u32 {
+        let d = degree[v as usize];
+        if d == 0 {
+            continue;
+        }
+        if d != 2 || mesh.is_boundary_vertex(v) {
+            is_corner[v as usize] = true;
+            continue;
+        }
+        let hs = sharp_out(v);
+        let p = mesh.position(v);
+        let a = unit(sub(mesh.position(mesh.to_vertex(hs[0])), p));
+        let b = unit(sub(mesh.position(mesh.to_vertex(hs[1])), p));
+        // Straight through: a and b opposite.
+        if -dot(a, b) < CORNER_TURN_DEG.to_radians().cos() {
+            is_corner[v as usize] = true;
+        }
+    }
+
+    // Walk lines from corners, then the closed loops that have none.
+    let mut used = vec![false; ne];
+    let mut lines = Vec::new();
+    let walk = |start: u32, h0: u32, used: &mut Vec<bool>, is_corner: &[bool]| {
+        let mut line = vec![start];
+        let mut h = h0;
+        loop {
+            used[mesh.edge(h) as usize] = true;
+            let v = mesh.to_vertex(h);
+            line.push(v);
+            if is_corner[v as usize] || v == start {
+                break;
+            }
+            match sharp_out(v).into_iter().find(|&g| !used[mesh.edge(g) as usize]) {
+                Some(g) => h = g,
+                None => break,
+            }
+        }
+        line
+    };
+    for v in 0..mesh.n_vertices() as u32 {
+        if !is_corner[v as usize] {
+            continue;
+        }
+        for h in sharp_out(v) {
+            if !used[mesh.edge(h) as usize] {
+                lines.push(walk(v, h, &mut used, &is_corner));
+            }
+        }
+    }
+    for e in 0..ne as u32 {
+        if sharp[e as usize] && !used[e as usize] {
+            // A closed line without corners: its start becomes one.
+            let v = mesh.from_vertex(2 * e);
+            is_corner[v as usize] = true;
+            lines.push(walk(v, 2 * e, &mut used, &is_corner));
+        }
+    }
+    let corners = (0..mesh.n_vertices() as u32).filter(|&v| is_corner[v as usize]).collect();
+    Features { sharp, degree, corners, lines }
+}

@@ -1,0 +1,148 @@
+//! Cross fields and the automatic coarse quad layout made from them (issue 22;
+//! method-notes §11).
+//!
+//! [`compute_field`] finds the smoothest 4-direction field on the surface (Knöppel, Crane,
+//! Pinkall, Schröder 2013), aligned to principal curvature directions where the surface is
+//! clearly anisotropic, with sharp feature edges and the boundary as hard constraints, and its
+//! singularities.
+
+pub mod complex;
+pub mod cross;
+pub mod curvature;
+pub mod features;
+pub mod frames;
+pub mod singularities;
+
+pub use complex::Complex;
+pub use features::{find_features, Features};
+pub use frames::Frames;
+pub use singularities::{singularities, Singularity};
+
+use crate::geom::{norm, sub};
+use crate::mesh::geometry::bounding_box;
+use crate::mesh::Mesh;
+use crate::solve::SolveError;
+
+/// The default feature angle in degrees (cli.md, `--feature-angle`).
+pub const DEFAULT_FEATURE_ANGLE: f64 = 35.0;
+
+/// A cross field on a mesh with what it was made from.
+#[derive(Debug, Clone)]
+pub struct CrossField {
+    pub frames: Frames,
+    /// `e^{4iθ}` per vertex in its frame (zero for isolated vertices).
+    pub z: Vec<Complex>,
+    pub features: Features,
+    pub singularities: Vec<Singularity>,
+}
+
+impl CrossField {
+    /// The direction angle `θ` of one of the cross's four arms at `v`, in `v`'s frame.
+    pub fn angle(&self, v: u32) -> f64 {
+        self.z[v as usize].arg() / 4.0
+    }
+
+    /// The four unit arms of the cross at `v`, in space, counter-clockwise.
+    pub fn arms(&self, v: u32) -> [[f64; 3]; 4] {
+        let t = self.angle(v);
+        std::array::from_fn(|k| self.frames.direction(v, t + k as f64 * std::f64::consts::FRAC_PI_2))
+    }
+}
+
+/// The cross at a vertex on feature lines or the boundary: the mean of its lines' directions
+/// (to the fourth power), if they agree enough to define one (not at a corner where three
+/// lines meet at 120°).
+fn line_constraints(mesh: &Mesh, frames: &Frames, features: &Features) -> Vec<Option<Complex>> {
+    (0..mesh.n_vertices() as u32)
+        .map(|v| {
+            if mesh.is_isolated(v) {
+                return None;
+            }
+            let mut s = Complex::ZERO;
+            let mut count = 0;
+            for h in mesh.outgoing(v) {
+                let e = mesh.edge(h);
+                if features.sharp[e as usize] || mesh.is_boundary_edge(e) {
+                    let d = sub(mesh.position(mesh.to_vertex(h)), mesh.position(v));
+                    s = s + Complex::polar(1.0, 4.0 * frames.angle(v, d));
+                    count += 1;
+                }
+            }
+            (count > 0 && s.abs() > 0.5 * count as f64).then(|| s.unit())
+        })
+        .collect()
+}
+
+/// The length of the bounding-box diagonal.
+pub fn diagonal(mesh: &Mesh) -> f64 {
+    let (lo, hi) = bounding_box(mesh);
+    norm(sub(hi, lo))
+}
+
+/// The cross field of `mesh` with sharp edges above `feature_angle_deg` (and the boundary)
+/// as constraints, and its singularities.
+///
+/// # Errors
+/// [`SolveError`] if the sparse factorization fails (a degenerate mesh).
+pub fn compute_field(mesh: &Mesh, feature_angle_deg: f64) -> Result<CrossField, SolveError> {
+    let frames = Frames::new(mesh);
+    let features = find_features(mesh, feature_angle_deg);
+    let diag = diagonal(mesh);
+    let guide = curvature::curvature_guide(mesh, &frames, diag);
+    let fixed = line_constraints(mesh, &frames, &features);
+    let z = cross::cross_field(mesh, &frames, &guide, &fixed, diag)?;
+    let singularities = singularities(mesh, &frames, &z);
+    Ok(CrossField { frames, z, features, singularities })
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::mesh::primitives::parallelepiped;
+    use crate::mesh::{build_mesh, TriangleSoup};
+
+    /// A cube's surface (n×n per side) pushed onto the unit sphere.
+    pub fn sphere(n: u32) -> Mesh {
+        let (cube, _) = parallelepiped([2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0], n);
+        let positions = cube.positions().iter().map(|p| crate::geom::unit(sub(*p, [1.0, 1.0, 1.0]))).collect();
+        build_mesh(TriangleSoup { positions, triangles: cube.triangles().to_vec(), ..Default::default() }).unwrap().mesh
+    }
+
+    /// A torus of revolution (radii `big`, `small`) as an n×m grid.
+    pub fn torus(n: u32, m: u32, big: f64, small: f64) -> Mesh {
+        let mut positions = Vec::new();
+        for j in 0..m {
+            for i in 0..n {
+                let (u, v) = (i as f64 / n as f64 * std::f64::consts::TAU, j as f64 / m as f64 * std::f64::consts::TAU);
+                let r = big + small * v.cos();
+                positions.push([r * u.cos(), r * u.sin(), small * v.sin()]);
+            }
+        }
+        let id = |i: u32, j: u32| (j % m) * n + (i % n);
+        let mut triangles = Vec::new();
+        for j in 0..m {
+            for i in 0..n {
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                triangles.extend([[a, b, c], [a, c, d]]);
+            }
+        }
+        build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh
+    }
+
+    #[test]
+    fn sphere_has_eight_valence_three_singularities() {
+        let m = sphere(10);
+        let f = compute_field(&m, DEFAULT_FEATURE_ANGLE).unwrap();
+        let valences: Vec<i32> = f.singularities.iter().map(|s| s.valence()).collect();
+        assert_eq!(valences, vec![3; 8], "{:?}", f.singularities);
+    }
+
+    #[test]
+    fn torus_has_no_singularity() {
+        let m = torus(48, 16, 1.0, 0.35);
+        let f = compute_field(&m, DEFAULT_FEATURE_ANGLE).unwrap();
+        assert!(f.singularities.is_empty(), "{:?}", f.singularities);
+        // No sharp edges on a smooth torus.
+        assert!(f.features.lines.is_empty());
+    }
+}
