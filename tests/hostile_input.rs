@@ -154,3 +154,45 @@ fn a_vertex_index_past_32_bits_is_told_the_real_vertex_count() {
         assert!(line.ends_with(&format!("nodes[0]: vertex {v} does not exist (the mesh has 2337 vertices)")), "{line}");
     }
 }
+
+/// Item 3: edge lengths under the old cap of twenty million quads ran out of memory (about
+/// 650 bytes a quad: an abort with a backtrace natively, a trap in the page). They are
+/// refused up front, with the count and the memory they would take.
+#[test]
+fn an_edge_length_beyond_the_memory_budget_is_refused_up_front() {
+    // mushroom-4 has about 576 quads at its default edge length of 0.035: 0.0003 asks for
+    // about nine million.
+    let line = one_error_line(&["remesh", &mushroom(), "--layout", &layout("mushroom-4"), "--edge-length", "0.0003"]);
+    let number_after = |key: &str| -> f64 {
+        let rest = line.split(key).nth(1).expect(&line);
+        rest.split(' ').next().and_then(|x| x.parse().ok()).expect(&line)
+    };
+    let quads = number_after("about ");
+    assert!((5e6..2e7).contains(&quads), "{line}");
+    let gb = number_after("would take about ");
+    assert!((gb - quads * quadlay::quad::BYTES_PER_QUAD as f64 / 1e9).abs() < 0.1, "{line}");
+    assert!(line.contains(&format!("the budget is {} quads", quadlay::quad::MAX_QUADS)), "{line}");
+    assert!(quadlay::quad::MAX_QUADS * quadlay::quad::BYTES_PER_QUAD <= quadlay::quad::MEMORY_BUDGET);
+}
+
+/// Item 6: every waypoint is a geodesic leg traced over the mesh (about a millisecond each
+/// on the bunny): a layout of 100,000 waypoints ran for minutes before failing. The count
+/// is refused when the file is read, naming the edge where it passes the cap.
+#[test]
+fn a_layout_with_more_waypoints_than_the_cap_is_refused_when_read() {
+    use quadlay::layout::{parse_layout, MAX_WAYPOINTS};
+    let dir = scratch("waypoints");
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(layout("mushroom-grid")).unwrap()).unwrap();
+    // Half the cap on edges[1], the rest and one more on edges[3].
+    let via = |n: usize| serde_json::Value::Array((0..n).map(|k| serde_json::json!({ "vertex": k % 2 })).collect());
+    doc["edges"][1]["via"] = via(MAX_WAYPOINTS / 2);
+    doc["edges"][3]["via"] = via(MAX_WAYPOINTS / 2);
+    let at_cap = parse_layout(&doc.to_string()).expect("at the cap");
+    assert_eq!(at_cap.edges.iter().map(|e| e.via.len()).sum::<usize>(), MAX_WAYPOINTS);
+    doc["edges"][3]["via"] = via(MAX_WAYPOINTS / 2 + 1);
+    let path = dir.join("many.layout.json");
+    std::fs::write(&path, doc.to_string()).unwrap();
+    let line = one_error_line(&["check", &mushroom(), "--layout", path.to_str().unwrap()]);
+    assert!(line.contains(&format!("edges[3].via: the layout has more than {MAX_WAYPOINTS} waypoints")), "{line}");
+}

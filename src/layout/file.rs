@@ -63,6 +63,12 @@ pub struct PatchSpec {
     pub chart: Option<ChartType>,
 }
 
+/// The most waypoints (`via` entries) a layout may have in all. Each is the end of a
+/// geodesic leg traced over the mesh (a few milliseconds on a mesh of 30,000 vertices), so
+/// this bounds the time a layout takes to place to seconds; the sample layouts have up to
+/// 574, a hand-drawn one rarely more than a few per edge.
+pub const MAX_WAYPOINTS: usize = 4096;
+
 /// A layout as the file states it (nodes not yet snapped to the mesh).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Layout {
@@ -90,6 +96,8 @@ pub enum Problem {
     SelfLoop,
     UnknownChart(String),
     RepeatedCorner(u32),
+    /// The layout's waypoints, counted up to this entry, are more than [`MAX_WAYPOINTS`].
+    TooManyWaypoints,
 }
 
 /// A layout error: the entry it is about (`nodes[2]`, `edges[3].via[0]`, or empty for the
@@ -128,6 +136,11 @@ impl fmt::Display for LayoutFileError {
             Problem::SelfLoop => write!(f, "an edge must join two different nodes"),
             Problem::UnknownChart(c) => write!(f, "unknown chart type {} (quad, rect or unit)", quoted(c)),
             Problem::RepeatedCorner(n) => write!(f, "node {n} is named twice as a corner"),
+            Problem::TooManyWaypoints => write!(
+                f,
+                "the layout has more than {MAX_WAYPOINTS} waypoints up to here; a curve needs a waypoint only where \
+                 it must not take the shortest way, so remove some"
+            ),
         }
     }
 }
@@ -227,6 +240,7 @@ pub fn parse_layout(text: &str) -> Result<Layout, LayoutFileError> {
     let n = nodes.len();
 
     let mut edges = Vec::new();
+    let mut waypoints = 0;
     let empty = Vec::new();
     let edge_values = match root.get("edges") {
         Some(v) => array(v, "edges", "an array of edges")?,
@@ -250,14 +264,19 @@ pub fn parse_layout(text: &str) -> Result<Layout, LayoutFileError> {
             Some(Value::Bool(b)) => *b,
             Some(_) => return Err(err(format!("{entry}.align"), Problem::Expected("true or false"))),
         };
-        let via = match obj.get("via") {
-            None => Vec::new(),
-            Some(v) => array(v, &format!("{entry}.via"), "an array of waypoints")?
-                .iter()
-                .enumerate()
-                .map(|(k, w)| location(w, &format!("{entry}.via[{k}]")))
-                .collect::<Result<_, _>>()?,
+        let via_values = match obj.get("via") {
+            None => &empty,
+            Some(v) => array(v, &format!("{entry}.via"), "an array of waypoints")?,
         };
+        waypoints += via_values.len();
+        if waypoints > MAX_WAYPOINTS {
+            return Err(err(format!("{entry}.via"), Problem::TooManyWaypoints));
+        }
+        let via = via_values
+            .iter()
+            .enumerate()
+            .map(|(k, w)| location(w, &format!("{entry}.via[{k}]")))
+            .collect::<Result<_, _>>()?;
         edges.push(EdgeSpec { nodes: [a, b], align, via });
     }
 

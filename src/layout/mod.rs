@@ -14,7 +14,7 @@ use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
 use curve::{meeting_point, trace_curve, Curve, CurvePoint};
 use embedding::{rotation, trace_faces, CurveNodes, Directed};
-pub use file::{parse_layout, write_layout, ChartType, Layout, LayoutFileError, Location};
+pub use file::{parse_layout, write_layout, ChartType, Layout, LayoutFileError, Location, MAX_WAYPOINTS};
 use std::fmt;
 
 /// Where a curve comes from: a layout edge of the file, or a piece of a mesh boundary loop.

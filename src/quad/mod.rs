@@ -59,8 +59,19 @@ pub fn default_edge_length(mesh: &Mesh) -> f64 {
     norm(sub(hi, lo)) / 40.0
 }
 
-/// More quads than this is taken for a mistaken edge length, not a wish.
-pub const MAX_QUADS: u64 = 20_000_000;
+/// Peak memory per quad of a remesh's last stage (extraction, quality measures, report),
+/// measured natively on mushroom-4: 516 MB for 0.82 M quads, 2030 MB for 3.3 M.
+pub const BYTES_PER_QUAD: u64 = 650;
+
+/// The memory one remesh may take for its quads: 2 GiB, what a browser tab can give the
+/// page's wasm heap (wasm32 addresses 4 GiB at most; a growing heap is copied, and browsers
+/// grant less on small machines). The command line keeps the same budget, so that both
+/// make the same meshes and refuse the same edge lengths.
+pub const MEMORY_BUDGET: u64 = 2 << 30;
+
+/// The most quads one remesh makes: [`MEMORY_BUDGET`] over [`BYTES_PER_QUAD`] (3,303,820).
+/// An edge length asking for more is refused before anything is allocated.
+pub const MAX_QUADS: u64 = MEMORY_BUDGET / BYTES_PER_QUAD;
 
 /// Why no quad mesh came out.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,8 +81,9 @@ pub enum QuadError {
     /// The sample counts cannot be made consistent; `pieces` names the curves involved
     /// (`edges[3]`, `boundary loop 0`).
     Counts { error: CountError, pieces: Vec<String> },
-    /// The edge length asks for more than [`MAX_QUADS`] quads: about `quads` (infinite when
-    /// a curve's length over the edge length overflows).
+    /// The edge length asks for more than [`MAX_QUADS`] quads (more memory than
+    /// [`MEMORY_BUDGET`]): about `quads` (infinite when a curve's length over the edge length
+    /// overflows).
     TooMany { quads: f64 },
 }
 
@@ -87,14 +99,19 @@ impl fmt::Display for QuadError {
             ),
             QuadError::Counts { error, .. } => write!(f, "{error}"),
             QuadError::TooMany { quads } => {
+                let gb = |quads: f64| quads * BYTES_PER_QUAD as f64 / 1e9;
                 let about = if !quads.is_finite() {
                     "more quads than can be counted".to_string()
                 } else if *quads < 1e15 {
-                    format!("about {quads:.0} quads")
+                    format!("about {quads:.0} quads, which would take about {:.1} GB of memory", gb(*quads))
                 } else {
-                    format!("about {quads:.1e} quads")
+                    format!("about {quads:.1e} quads, which would take about {:.1e} GB of memory", gb(*quads))
                 };
-                write!(f, "the edge length asks for {about} (more than {MAX_QUADS}); choose a longer edge length")
+                write!(
+                    f,
+                    "the edge length asks for {about} (the budget is {MAX_QUADS} quads, {:.1} GB); choose a longer edge length",
+                    gb(MAX_QUADS as f64)
+                )
             }
         }
     }
