@@ -12,6 +12,8 @@ use quadlay::summary::{LayoutSummary, MeshSummary};
 use std::path::Path;
 use std::process::ExitCode;
 
+mod outputs;
+
 const USAGE: &str = "usage:
   quadlay remesh MESH --layout LAYOUT [options]
                               parameterize MESH with the layout and extract a pure quad mesh
@@ -41,6 +43,9 @@ fn bad_input(message: String) -> Failure {
 /// an error with exit status 1, where `print!` would panic.
 fn say(text: &str) -> Result<(), Failure> {
     use std::io::Write;
+    if !outputs::stdout_is_open() {
+        return Err(Failure { code: 1, message: "standard output is closed".into() });
+    }
     let mut out = std::io::stdout().lock();
     out.write_all(text.as_bytes())
         .and_then(|()| out.flush())
@@ -202,25 +207,21 @@ fn parse_remesh(args: &[String]) -> Result<RemeshArgs, Failure> {
     Ok(r)
 }
 
-/// Writes `bytes` to a temporary name beside `path`, then renames it: readers never see a
-/// half-written file.
-fn write_atomically(path: &str, bytes: &[u8]) -> Result<(), Failure> {
-    let target = Path::new(path);
-    let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = target.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let fail = |e: std::io::Error| Failure { code: 1, message: format!("{path}: cannot write: {e}") };
-    std::fs::write(&tmp, bytes).map_err(fail)?;
-    std::fs::rename(&tmp, target).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        fail(e)
-    })
-}
-
 fn remesh(args: &[String]) -> Result<(), Failure> {
     let t0 = now();
     let a = parse_remesh(args)?;
     let mesh_path = a.mesh.as_deref().ok_or_else(|| bad_input("remesh needs a mesh file".into()))?;
     let layout_path = a.layout.as_deref().ok_or_else(|| bad_input("remesh needs --layout LAYOUT".into()))?;
+    let report_file = a.report.as_deref().filter(|&r| r != "-");
+    let files: Vec<(&str, &str)> =
+        [("--out", a.out.as_deref()), ("--param-out", a.param_out.as_deref()), ("--report", report_file)]
+            .into_iter()
+            .filter_map(|(option, path)| Some((option, path?)))
+            .collect();
+    outputs::check_distinct(&[("the input mesh", mesh_path), ("the layout", layout_path)], &files)?;
+    if a.report.as_deref() == Some("-") && !outputs::stdout_is_open() {
+        return Err(Failure { code: 1, message: "--report -: standard output is closed".into() });
+    }
     let loaded = load(mesh_path)?;
     let mesh = &loaded.mesh;
     let t_load = now();
@@ -260,8 +261,11 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     let (quads, report) = extract_and_report(mesh, &layout, &param, &quad_options, earlier)
         .map_err(|e: QuadError| bad_input(format!("{layout_path}: {e}")))?;
 
-    let faces: Vec<u32> = quads.quads.iter().flatten().copied().collect();
+    // Every file is written before any is renamed, and the report to standard output goes
+    // out in between: a run whose report cannot be written leaves no new file.
+    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
     if let Some(out) = &a.out {
+        let faces: Vec<u32> = quads.quads.iter().flatten().copied().collect();
         let polygons = Polygons { positions: &quads.positions, faces: &faces, arity: 4 };
         let bytes = match out_format(out)? {
             OutFormat::Obj => write_obj(polygons, None),
@@ -269,19 +273,25 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
             OutFormat::Glb => write_glb(polygons),
             OutFormat::Gltf => write_gltf(polygons),
         };
-        write_atomically(out, &bytes)?;
+        files.push((out.clone(), bytes));
     }
     if let Some(out) = &a.param_out {
         let uv: Vec<[f64; 2]> = input_corner_uv(mesh, &layout, &param).into_iter().flatten().collect();
         let tris: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
-        write_atomically(out, &write_obj(Polygons { positions: mesh.positions(), faces: &tris, arity: 3 }, Some(&uv)))?;
+        files.push((out.clone(), write_obj(Polygons { positions: mesh.positions(), faces: &tris, arity: 3 }, Some(&uv))));
     }
     let json = serde_json::to_string_pretty(&report).map_err(|e| Failure { code: 1, message: e.to_string() })?;
-    match a.report.as_deref() {
-        Some("-") => say(&format!("{json}\n"))?,
-        Some(path) => write_atomically(path, format!("{json}\n").as_bytes())?,
-        None => {}
+    if let Some(path) = a.report.as_deref().filter(|&r| r != "-") {
+        files.push((path.to_string(), format!("{json}\n").into_bytes()));
     }
+    let staged = outputs::stage(files)?;
+    if a.report.as_deref() == Some("-") {
+        if let Err(f) = say(&format!("{json}\n")) {
+            outputs::discard(staged);
+            return Err(f);
+        }
+    }
+    outputs::commit(staged)?;
     if a.report.as_deref() != Some("-") {
         let q = &report.quads;
         let p = &report.parameterization;

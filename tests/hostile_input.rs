@@ -172,7 +172,6 @@ fn an_edge_length_beyond_the_memory_budget_is_refused_up_front() {
     let gb = number_after("would take about ");
     assert!((gb - quads * quadlay::quad::BYTES_PER_QUAD as f64 / 1e9).abs() < 0.1, "{line}");
     assert!(line.contains(&format!("the budget is {} quads", quadlay::quad::MAX_QUADS)), "{line}");
-    assert!(quadlay::quad::MAX_QUADS * quadlay::quad::BYTES_PER_QUAD <= quadlay::quad::MEMORY_BUDGET);
 }
 
 /// Item 6: every waypoint is a geodesic leg traced over the mesh (about a millisecond each
@@ -195,4 +194,85 @@ fn a_layout_with_more_waypoints_than_the_cap_is_refused_when_read() {
     std::fs::write(&path, doc.to_string()).unwrap();
     let line = one_error_line(&["check", &mushroom(), "--layout", path.to_str().unwrap()]);
     assert!(line.contains(&format!("edges[3].via: the layout has more than {MAX_WAYPOINTS} waypoints")), "{line}");
+}
+
+/// The remesh of the mushroom with the 2 × 2 grid, once, with `extra` options.
+fn remesh_mushroom(extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec!["remesh".to_string(), mushroom(), "--layout".into(), layout("mushroom-grid"), "--iterations".into(), "0".into()];
+    args.extend(extra.iter().map(|s| s.to_string()));
+    run_cli(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
+/// Also found: `--report` naming the `-o` file replaced the quad mesh with the JSON, and `-o`
+/// naming the input overwrote it. Both are refused before anything runs.
+#[test]
+fn outputs_that_name_an_input_or_each_other_are_refused() {
+    let dir = scratch("same-file");
+    let out = dir.join("q.obj");
+    let out = out.to_str().unwrap();
+    std::fs::write(out, "old").unwrap();
+    // The same file, also spelled differently.
+    let other_spelling = format!("{}/./q.obj", dir.to_str().unwrap());
+    for report in [out, other_spelling.as_str()] {
+        let line = one_error_line(&["remesh", &mushroom(), "--layout", &layout("mushroom-grid"), "-o", out, "--report", report]);
+        assert!(line.contains("--report and --out name the same file"), "{line}");
+    }
+    assert_eq!(std::fs::read_to_string(out).unwrap(), "old", "left alone");
+    // The input mesh (a copy: a failing test must not overwrite the shared one).
+    let input = dir.join("in.obj");
+    std::fs::copy(shared_mesh("mushroom.obj"), &input).unwrap();
+    let input = input.to_str().unwrap();
+    let line = one_error_line(&["remesh", input, "--layout", &layout("mushroom-grid"), "-o", input]);
+    assert!(line.contains("--out names the input mesh"), "{line}");
+    assert_eq!(std::fs::read(input).unwrap(), std::fs::read(shared_mesh("mushroom.obj")).unwrap());
+    let param = dir.join("p.obj");
+    let line = one_error_line(&["remesh", input, "--layout", &layout("mushroom-grid"), "-o", param.to_str().unwrap(), "--param-out", param.to_str().unwrap()]);
+    assert!(line.contains("--param-out and --out name the same file"), "{line}");
+}
+
+/// Also found: a report that could not be written (exit 1) left the new `-o` file behind,
+/// and a killed run its hidden temporary file. All or nothing, stale temporaries removed.
+#[test]
+fn a_failed_run_leaves_no_output_and_stale_temporaries_are_removed() {
+    let dir = scratch("all-or-nothing");
+    let out = dir.join("q.obj");
+    let report = dir.join("no such directory").join("r.json");
+    let (code, _, stderr) = remesh_mushroom(&["-o", out.to_str().unwrap(), "--report", report.to_str().unwrap()]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.starts_with("error: ") && stderr.contains("r.json: cannot write"), "{stderr}");
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+
+    // A temporary of a run that was killed (no process has this id: ids stay below 2^22).
+    let stale = dir.join(".q.obj.999999999.tmp");
+    std::fs::write(&stale, "half a mesh").unwrap();
+    let (code, _, stderr) = remesh_mushroom(&["-o", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(!stale.exists(), "the stale temporary is removed");
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("q.obj")]);
+}
+
+/// Also found: `--report -` into a closed standard output exited 0 and lost the report
+/// (Rust takes writes to a closed descriptor for success).
+#[cfg(unix)]
+#[test]
+fn a_report_to_a_closed_standard_output_is_an_error() {
+    let dir = scratch("closed-stdout");
+    let out = dir.join("q.obj");
+    let out_arg = out.to_str().unwrap().to_string();
+    let (mesh, grid) = (mushroom(), layout("mushroom-grid"));
+    let args = ["remesh", &mesh, "--layout", &grid, "--iterations", "0", "-o", &out_arg, "--report", "-"];
+    let result = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(r#"exec "$0" "$@" >&-"#)
+        .arg(env!("CARGO_BIN_EXE_quadlay"))
+        .args(args)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.starts_with("error: ") && stderr.contains("standard output is closed"), "{stderr}");
+    assert!(!out.exists(), "no quad mesh without its report");
 }
