@@ -225,19 +225,16 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     let loaded = load(mesh_path)?;
     let mesh = &loaded.mesh;
     let t_load = now();
-    let mut layout_file = read_layout(layout_path)?;
-    if let Some(chart) = a.chart {
-        layout_file.default_chart = chart;
-    }
-    let layout = place_layout(mesh, layout_path, layout_file)?;
+    let layout = place_layout(mesh, layout_path, read_layout(layout_path)?)?;
     let edge_length = a.edge_length.unwrap_or_else(|| default_edge_length(mesh));
     // Refused before the parameterization, which would take its time for nothing.
     check_edge_length(&layout, edge_length).map_err(|e| bad_input(format!("{layout_path}: {e}")))?;
     let t_layout = now();
 
-    let mut options = ParamOptions::default();
+    let mut options = ParamOptions::DEFAULT;
     options.iterations = a.iterations.unwrap_or(options.iterations);
     options.align = !a.no_align;
+    options.default_chart = a.chart;
     let param_failure = |e: ParamError| {
         let code = if matches!(e, ParamError::Solve(_)) { 1 } else { 2 };
         Failure { code, message: format!("{mesh_path} with {layout_path}: {e}") }

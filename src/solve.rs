@@ -47,9 +47,9 @@ use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
 
 /// The index type of the pattern, the ordering and the factor: four bytes rather than `usize`'s
-/// eight natively (in wasm32 they are the same). The ordering walks index arrays; with indices
-/// half the size, faer's AMD ordering and symbolic factorization of bunny_28k's system (59,000
-/// unknowns) took 56–93 ms instead of 112–145 ms. A factor that would need more stored values than `u32` counts is reported as
+/// eight natively (in wasm32 they are the same). The ordering walks index arrays, and halving
+/// them halves the AMD ordering's and the symbolic factorization's time (docs/measurements.md).
+/// A factor that would need more stored values than `u32` counts is reported as
 /// [`SolveError::IndexOverflow`].
 type Ix = u32;
 
@@ -99,7 +99,7 @@ pub enum SolveError {
     OutOfMemory,
     /// The factor has more nonzeros than the solver's index type can address.
     IndexOverflow,
-    /// [`solve_lu`]: the square matrix is singular — structurally (no pivot at `column`) or
+    /// `solve_lu` (feature `eq3`): the square matrix is singular — structurally (no pivot at `column`) or
     /// numerically (a zero pivot made the solution non-finite; `column` is `None`).
     Singular {
         /// The elimination step at which no pivot was found, if known.
@@ -473,8 +473,7 @@ impl SpdSolver {
 ///
 /// faer's own solve does the same through its dense kernels, one triangular solve and one
 /// matrix product per supernode; the supernodes of a surface mesh's factor are mostly a few
-/// columns wide, and those calls cost more than the arithmetic. bunny_28k's system, 5 solves:
-/// 74.2 → 57.8 ms natively (means of 5 alternating runs), 104 → 67–78 ms in wasm.
+/// columns wide, and those calls cost more than the arithmetic (docs/measurements.md).
 fn solve_supernodal(
     symbolic: &faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky<Ix>,
     perm: Option<faer::perm::PermRef<'_, Ix>>,
@@ -536,6 +535,7 @@ fn solve_supernodal(
     }
 }
 
+#[cfg(feature = "eq3")]
 /// Solves the square, generally non-symmetric system $A x = b$ by sparse LU with partial
 /// (row) pivoting and a COLAMD column ordering (faer's `SparseColMat::sp_lu`), in place: on
 /// return `b` holds $x$. `A` is given as `(row, col)` entries with `values`; duplicated
@@ -939,6 +939,7 @@ mod tests {
         );
         assert!(res < 1e-10, "relative residual {res}");
     }
+    #[cfg(feature = "eq3")]
     #[test]
     fn lu_solves_a_non_symmetric_system_and_reports_singularity() {
         // A = [[2, 1, 0], [0, 3, 1], [1, 0, 4]], with the (0, 0) entry split in two.

@@ -5,7 +5,7 @@
 use crate::clock::now;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh};
-use crate::layout::{build_layout, curve, parse_layout, ChartType, Layout, SurfaceLayout};
+use crate::layout::{build_layout, curve, parse_layout, SurfaceLayout};
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
 use crate::param::{ParamOptions, ParamSession};
@@ -20,10 +20,8 @@ use wasm_bindgen::JsCast;
 #[wasm_bindgen]
 pub struct Session {
     loaded: LoadedMesh,
-    /// The layout file as parsed, to re-derive chart types per run.
-    file: Option<Layout>,
     layout: Option<SurfaceLayout>,
-    /// The active parameterization and the layout it ran on (chart types as asked).
+    /// The active parameterization and the layout it ran on.
     param: Option<Run>,
     /// Parameterizations put aside by [`Session::keep_param`], by name.
     kept: Vec<(String, Run)>,
@@ -48,18 +46,6 @@ struct RemeshOptions {
     /// Target quad edge length in the mesh's units; default 1/40 of the bounding-box
     /// diagonal.
     edge_length: Option<f64>,
-}
-
-/// Options of a parameterization run, as one object from JS (all optional; unknown keys are
-/// errors, see [`options`]).
-#[derive(Deserialize, Default)]
-#[serde(default)]
-struct SolveOptions {
-    /// Honour the layout's alignment tags in the final solve (default true).
-    align: Option<bool>,
-    /// Chart type of faces without a chart in a `patches` entry: "quad", "rect" or "unit";
-    /// absent or null: the layout's `defaults.chart`.
-    chart: Option<String>,
 }
 
 /// An options object from JS. Its keys are checked first: serde-wasm-bindgen reads only the
@@ -116,7 +102,7 @@ impl Session {
     pub fn new(bytes: &[u8], name: &str) -> Result<Session, JsError> {
         let t0 = now();
         let loaded = read_mesh(bytes, name).map_err(|e| JsError::new(&format!("{name}: {e}")))?;
-        Ok(Session { loaded, file: None, layout: None, param: None, kept: Vec::new(), load_seconds: now() - t0, layout_seconds: 0.0 })
+        Ok(Session { loaded, layout: None, param: None, kept: Vec::new(), load_seconds: now() - t0, layout_seconds: 0.0 })
     }
 
     /// Vertex positions, xyz interleaved, as `Float32Array`.
@@ -138,7 +124,6 @@ impl Session {
     /// curves as polylines and the face of every vertex; throws the layout's error.
     #[wasm_bindgen(js_name = setLayout)]
     pub fn set_layout(&mut self, text: &str) -> Result<JsValue, JsError> {
-        self.file = None;
         self.layout = None;
         self.param = None;
         self.kept.clear();
@@ -163,37 +148,27 @@ impl Session {
             vertex_face: surface.vertex_face.iter().map(|&f| if f == u32::MAX { -1 } else { f as i32 }).collect(),
         };
         self.layout = Some(surface);
-        self.file = Some(layout);
         to_js(&view)
     }
 
     /// Starts the parameterization of the placed layout: unit charts, every edge aligned,
     /// the initial solve (iteration 0). Returns its statistics. `options` is either a boolean
-    /// (align) or an object `{ align?: bool, chart?: "quad" | "rect" | "unit" | null }`;
-    /// `chart` replaces the layout's default chart type (faces with a chart in `patches`
-    /// keep theirs).
+    /// (align) or an object with any of [`ParamOptions`]' fields, e.g. `{ align?: bool,
+    /// chart?: "quad" | "rect" | "unit" | null }` (`chart` replaces the layout's default
+    /// chart type; faces with a chart in `patches` keep theirs).
     #[wasm_bindgen(js_name = startParam)]
     pub fn start_param(&mut self, options: JsValue) -> Result<JsValue, JsError> {
         self.param = None;
-        let opts: SolveOptions = if let Some(align) = options.as_bool() {
-            SolveOptions { align: Some(align), chart: None }
+        let options: ParamOptions = if let Some(align) = options.as_bool() {
+            let mut o = ParamOptions::DEFAULT;
+            o.align = align;
+            o
         } else if options.is_undefined() || options.is_null() {
-            SolveOptions::default()
+            ParamOptions::DEFAULT
         } else {
-            self::options(options, "solve options", &["align", "chart"])?
+            self::options(options, "solve options", &ParamOptions::KEYS)?
         };
-        let chart = match opts.chart.as_deref() {
-            None => None,
-            Some(c) => Some(ChartType::parse(c).ok_or_else(|| JsError::new(&format!("unknown chart type {} (quad, rect or unit)", quoted(c))))?),
-        };
-        let (Some(layout), Some(file)) = (self.layout.as_ref(), self.file.as_ref()) else {
-            return Err(JsError::new("place a layout first"));
-        };
-        let layout = match chart {
-            Some(c) => with_default_chart(layout, file, c),
-            None => layout.clone(),
-        };
-        let options = ParamOptions { align: opts.align.unwrap_or(true), ..ParamOptions::default() };
+        let layout = self.layout.clone().ok_or_else(|| JsError::new("place a layout first"))?;
         let param = ParamSession::new(&self.loaded.mesh, &layout, &options).map_err(|e| JsError::new(&e.to_string()))?;
         let first = param.history()[0];
         self.param = Some(Run { layout, seconds: first.seconds, param, quads: None });
@@ -417,26 +392,4 @@ impl Session {
     fn param_ref(&self) -> Result<&ParamSession, JsError> {
         self.param.as_ref().map(|r| &r.param).ok_or_else(|| JsError::new("start the parameterization first"))
     }
-}
-
-/// The layout with `chart` for every face whose `patches` entry (if any) names no chart.
-/// A face's entry is the one whose corners, counter-clockwise, are the face's corners
-/// (`build_layout` takes a face's corners from its entry).
-fn with_default_chart(layout: &SurfaceLayout, file: &Layout, chart: ChartType) -> SurfaceLayout {
-    let mut out = layout.clone();
-    for f in &mut out.faces {
-        let corners = f.corner_nodes();
-        let explicit = file.patches.iter().any(|p| {
-            p.chart.is_some()
-                && (0..4).any(|r| {
-                    let mut c = p.corners;
-                    c.rotate_left(r);
-                    c == corners
-                })
-        });
-        if !explicit {
-            f.chart = chart;
-        }
-    }
-    out
 }

@@ -3,8 +3,8 @@
 //! known answers of tests/param_known_answers.rs (the paper's loop) and on the sample layouts
 //! (the loop with the fold guard, as the product runs it), with the same chart-optimization
 //! loop for both. The table of distortions and times is printed
-//! (`cargo test --test param_formulations -- --nocapture`); it is quoted in system.rs's
-//! module doc, where the choice is explained.
+//! (`cargo test --test param_formulations -- --nocapture`); it is kept in
+//! docs/formulations.md, where the choice is explained.
 
 mod common;
 
@@ -13,7 +13,6 @@ use quadlay::layout::{build_layout, parse_layout, SurfaceLayout};
 use quadlay::mesh::primitives::quad_grid;
 use quadlay::mesh::Mesh;
 use quadlay::param::chart::{distortion, folded, rest_frame};
-use quadlay::param::cut::curve_sides;
 use quadlay::param::eq3::solve_eq3;
 use quadlay::param::system::{cotangent_halves, Solution};
 use quadlay::param::{Distortion, Formulation, ParamError, ParamOptions, ParamSession};
@@ -69,9 +68,8 @@ fn measure(session: &ParamSession, sol: &Solution) -> Distortion {
 /// same system as the symmetric run's last iteration (its all-aligned solve with those charts).
 fn eq3_on_charts_of(layout: &SurfaceLayout, session: &ParamSession) -> Distortion {
     let cut = session.cut();
-    let (nodes, transitions) = session.frames();
     let every = vec![true; layout.curves.len()];
-    let sol = solve_eq3(cut, &every, &nodes, &curve_sides(layout), &transitions, &cotangent_halves(cut)).unwrap();
+    let sol = solve_eq3(cut, &every, &session.frames(), &cotangent_halves(cut)).unwrap();
     measure(session, &sol)
 }
 

@@ -7,7 +7,6 @@ mod common;
 
 use quadlay::layout::ChartType;
 use quadlay::mesh::NONE;
-use quadlay::param::cut::curve_sides;
 use quadlay::param::system::{cotangent_halves, held_on_side, System};
 use quadlay::param::{ParamOptions, ParamSession};
 
@@ -116,8 +115,8 @@ fn leaving_out_the_uv_couplings_of_axis_parallel_charts_changes_nothing() {
         }
         let mut s = ParamSession::new(&mesh, &layout, &ParamOptions::default()).unwrap();
         s.step().unwrap();
-        let (nodes, transitions) = s.frames();
-        let (cut, sides) = (s.cut(), curve_sides(&layout));
+        let frames = s.frames();
+        let (cut, sides) = (s.cut(), &frames.sides);
         let weights = cotangent_halves(cut);
         let general: Vec<bool> = layout.faces.iter().map(|f| f.chart == ChartType::Quad).collect();
         assert!(general.iter().any(|&g| g) && general.iter().any(|&g| !g), "{layout_name}: needs both kinds");
@@ -129,8 +128,8 @@ fn leaving_out_the_uv_couplings_of_axis_parallel_charts_changes_nothing() {
             let held = held_on_side(cut, aligned, anchor);
             let mut full = System::new(cut, vec![true; general.len()], aligned);
             let mut lean = System::new(cut, general.clone(), aligned);
-            let a = full.solve(cut, &nodes, &sides, &transitions, &weights, &held).unwrap();
-            let b = lean.solve(cut, &nodes, &sides, &transitions, &weights, &held).unwrap();
+            let a = full.solve(cut, &frames, &weights, &held).unwrap();
+            let b = lean.solve(cut, &frames, &weights, &held).unwrap();
             let diff = a
                 .corner_uv
                 .iter()

@@ -49,6 +49,15 @@ impl ChartType {
     }
 }
 
+/// From its name, as in a layout file (`"quad"`, `"rect"`, `"unit"`), with the file's message
+/// for any other.
+impl<'de> serde::Deserialize<'de> for ChartType {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        ChartType::parse(&name).ok_or_else(|| serde::de::Error::custom(err("", Problem::UnknownChart(name))))
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct EdgeSpec {
     pub nodes: [u32; 2],

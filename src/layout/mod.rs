@@ -56,7 +56,11 @@ pub struct Face {
     pub angles: Vec<f64>,
     /// Positions in `nodes` of the four chart corners, increasing; `corners[0] == 0`.
     pub corners: [usize; 4],
+    /// The chart type: its `patches` entry's, else the layout's `defaults.chart`.
     pub chart: ChartType,
+    /// Whether `chart` comes from the face's `patches` entry (a run's default chart type,
+    /// [`crate::param::ParamOptions::default_chart`], does not replace it).
+    pub chart_from_patch: bool,
 }
 
 impl Face {
@@ -71,6 +75,13 @@ impl Face {
     }
     pub fn corner_nodes(&self) -> [u32; 4] {
         self.corners.map(|k| self.nodes[k])
+    }
+    /// The chart type of a run whose default chart type is `default` (`None`: the layout's).
+    pub fn chart_with_default(&self, default: Option<ChartType>) -> ChartType {
+        match default {
+            Some(chart) if !self.chart_from_patch => chart,
+            _ => self.chart,
+        }
     }
 }
 
@@ -412,7 +423,8 @@ fn choose_corners(layout: &Layout, traced: Vec<embedding::TracedFace>) -> Result
                 }
             };
             corner_pos.sort_unstable();
-            let chart = entry.and_then(|p| layout.patches[p].chart).unwrap_or(layout.default_chart);
+            let from_patch = entry.and_then(|p| layout.patches[p].chart);
+            let chart = from_patch.unwrap_or(layout.default_chart);
             // Start the cycle at the first corner.
             let shift = corner_pos[0];
             let (mut pieces, mut nodes, mut angles) = (f.pieces, f.nodes, f.angles);
@@ -420,7 +432,30 @@ fn choose_corners(layout: &Layout, traced: Vec<embedding::TracedFace>) -> Result
             nodes.rotate_left(shift);
             angles.rotate_left(shift);
             let corners = [0, corner_pos[1] - shift, corner_pos[2] - shift, corner_pos[3] - shift];
-            Face { pieces, nodes, angles, corners, chart }
+            Face { pieces, nodes, angles, corners, chart, chart_from_patch: from_patch.is_some() }
         })
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A run's default chart type replaces the layout's default, never a `patches` entry's.
+    #[test]
+    fn a_default_chart_type_keeps_the_patches_charts() {
+        let face = |chart, chart_from_patch| Face {
+            pieces: Vec::new(),
+            nodes: vec![0, 1, 2, 3],
+            angles: vec![1.0; 4],
+            corners: [0, 1, 2, 3],
+            chart,
+            chart_from_patch,
+        };
+        let (given, defaulted) = (face(ChartType::Unit, true), face(ChartType::Quad, false));
+        assert_eq!(given.chart_with_default(Some(ChartType::Rect)), ChartType::Unit);
+        assert_eq!(defaulted.chart_with_default(Some(ChartType::Rect)), ChartType::Rect);
+        assert_eq!(defaulted.chart_with_default(None), ChartType::Quad);
+        assert_eq!(given.chart_with_default(None), ChartType::Unit);
+    }
 }

@@ -29,78 +29,13 @@
 //! [`cotangent_halves`]: super::system::cotangent_halves
 
 use super::cut::CutMesh;
-use super::system::{unknowns, Expr, NodePositions, ParamError, Solution, Var};
-use super::transition::Affine;
+use super::frames::ChartFrames;
+use super::system::{own_exprs, unknowns, Expr, ParamError, Solution, Var};
 use crate::mesh::NONE;
 use crate::solve::{solve_lu, SolveError};
 
-/// The inputs of one solve, shared by the helpers.
-struct Frames<'a> {
-    cut: &'a CutMesh,
-    vars: &'a [Var],
-    nodes: &'a NodePositions,
-    sides: &'a [[u32; 2]],
-    transitions: &'a [Affine],
-}
-
-impl Frames<'_> {
-    /// Node `node` in chart `face`.
-    fn node(&self, node: u32, face: u32) -> Result<Expr, ParamError> {
-        let p = self.nodes[face as usize].get(&node).ok_or(ParamError::NodeNotOnFace { node, face })?;
-        Ok(Expr::fixed(*p))
-    }
-
-    /// Non-node vertex `v` in the chart of its own face.
-    fn own(&self, v: u32) -> Result<Expr, ParamError> {
-        let (cut, vi) = (self.cut, v as usize);
-        let own = cut.vertex_face[vi];
-        let var = self.vars[vi];
-        Ok(match var {
-            Var::OnSide(_) => {
-                let c = cut.vertex_curve[vi] as usize;
-                let ends = [cut.curve_vertices[c][0], *cut.curve_vertices[c].last().unwrap_or(&v)];
-                let [p, q] = ends.map(|e| self.nodes[own as usize].get(&cut.vertex_node[e as usize]).copied());
-                let (Some(p), Some(q)) = (p, q) else {
-                    return Err(ParamError::NodeNotOnFace { node: cut.vertex_node[ends[0] as usize], face: own });
-                };
-                Expr { var, m: [[q[0] - p[0], 0.0], [q[1] - p[1], 0.0]], b: p }
-            }
-            // Free, or a vertex no triangle uses (never asked for).
-            _ => Expr { var, m: [[1.0, 0.0], [0.0, 1.0]], b: [0.0, 0.0] },
-        })
-    }
-
-    /// The transition from the chart of `v`'s own face to chart `face` (a neighbour across
-    /// `v`'s curve), or `None` when they are the same chart.
-    fn to_face(&self, v: u32, face: u32) -> Result<Option<Affine>, ParamError> {
-        let own = self.cut.vertex_face[v as usize];
-        if own == face {
-            return Ok(None);
-        }
-        let c = self.cut.vertex_curve[v as usize];
-        if c != NONE && self.sides[c as usize] == [own, face] {
-            return Ok(Some(self.transitions[c as usize]));
-        }
-        Err(ParamError::NotNeighbours { vertex: v, face })
-    }
-
-    /// Vertex `v` of a triangle of face `face`, in that face's chart.
-    fn in_face(&self, v: u32, face: u32) -> Result<Expr, ParamError> {
-        let node = self.cut.vertex_node[v as usize];
-        if node != NONE {
-            return self.node(node, face);
-        }
-        let base = self.own(v)?;
-        Ok(match self.to_face(v, face)? {
-            None => base,
-            Some(phi) => base.transformed(&phi),
-        })
-    }
-}
-
-/// Assembles eq. 3 for the given node positions and transitions (`transitions[c]` maps the
-/// chart left of curve c to the chart on its right; `aligned[c]` tells whether curve c is
-/// aligned) and solves it by sparse LU. The inputs are those of
+/// Assembles eq. 3 in the charts of `frames` (`aligned[c]` tells whether curve c is aligned)
+/// and solves it by sparse LU. The inputs are those of
 /// [`System::solve`](super::system::System::solve) plus the alignment tags the `System`
 /// keeps; `weights` are the refined mesh's [`cotangent_halves`](super::system::cotangent_halves).
 ///
@@ -108,20 +43,15 @@ impl Frames<'_> {
 /// [`ParamError::Solve`] with [`SolveError::Singular`] if the matrix is singular (or a
 /// transition is), or [`ParamError::NodeNotOnFace`] / [`ParamError::NotNeighbours`] on a
 /// mesh too coarse for the layout.
-pub fn solve_eq3(
-    cut: &CutMesh,
-    aligned: &[bool],
-    nodes: &NodePositions,
-    sides: &[[u32; 2]],
-    transitions: &[Affine],
-    weights: &[[f64; 3]],
-) -> Result<Solution, ParamError> {
+pub fn solve_eq3(cut: &CutMesh, aligned: &[bool], frames: &ChartFrames, weights: &[[f64; 3]]) -> Result<Solution, ParamError> {
     let (vars, n) = unknowns(cut, aligned, 0.0);
-    let fr = Frames { cut, vars: &vars, nodes, sides, transitions };
+    let own = own_exprs(cut, &vars, frames, &[])?;
+    let own_of = |v: u32| own[v as usize].unwrap_or(Expr::fixed([0.0, 0.0]));
     let mut exprs = Vec::with_capacity(cut.triangles.len());
     for (t, tri) in cut.triangles.iter().enumerate() {
         let face = cut.triangle_face[t];
-        exprs.push([fr.in_face(tri[0], face)?, fr.in_face(tri[1], face)?, fr.in_face(tri[2], face)?]);
+        let e = |k: usize| frames.vertex_expr(cut, &own, tri[k], face);
+        exprs.push([e(0)?, e(1)?, e(2)?]);
     }
     // Σ_j w_ij per vertex, for the normalization of eq. 2.
     let mut total = vec![0.0; cut.positions.len()];
@@ -142,12 +72,12 @@ pub fn solve_eq3(
                 continue;
             }
             // From this triangle's chart back into i's own chart α.
-            let back = match fr.to_face(i, face)? {
+            let back = match frames.to_face(cut, i, face)? {
                 None => None,
                 Some(phi) => Some(phi.inverse().ok_or(ParamError::Solve(SolveError::Singular { column: None }))?),
             };
             let own_face = cut.vertex_face[i as usize];
-            let ui = fr.own(i)?;
+            let ui = own_of(i);
             // Row projections: both coordinates of a free vertex, the side direction of an
             // aligned one.
             let (rows, proj): (usize, [[f64; 2]; 2]) = match var {
@@ -166,10 +96,10 @@ pub fn solve_eq3(
                     None => exprs[t][jk],
                     Some(back) => {
                         let node = cut.vertex_node[j as usize];
-                        if node != NONE && nodes[own_face as usize].contains_key(&node) {
-                            fr.node(node, own_face)?
+                        if node != NONE && frames.nodes[own_face as usize].contains_key(&node) {
+                            Expr::fixed(frames.node(node, own_face)?)
                         } else if node == NONE && cut.vertex_face[j as usize] == own_face {
-                            fr.own(j)?
+                            own_of(j)
                         } else {
                             exprs[t][jk].transformed(&back)
                         }
@@ -200,6 +130,7 @@ pub fn solve_eq3(
 mod tests {
     use super::*;
     use crate::layout::{build_layout, parse_layout};
+    use crate::param::transition::Affine;
     use crate::mesh::primitives::quad_grid;
     use crate::param::{Formulation, ParamOptions, ParamSession};
 
@@ -270,7 +201,7 @@ mod tests {
         eq3.step().unwrap();
         sym.step().unwrap();
         eq3.finish().unwrap();
-        let (nodes, transitions) = eq3.frames();
+        let ChartFrames { nodes, transitions, .. } = eq3.frames();
         let cut = eq3.cut();
         let scales: Vec<f64> =
             transitions.iter().map(|a| (a.m[0][0] * a.m[1][1] - a.m[0][1] * a.m[1][0]).abs()).collect();

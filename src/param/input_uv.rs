@@ -18,24 +18,11 @@ use crate::mesh::{Mesh, NONE};
 pub fn input_corner_uv(mesh: &Mesh, layout: &SurfaceLayout, param: &ParamSession) -> Vec<[[f64; 2]; 3]> {
     let cut = param.cut();
     let uv = &param.solution().corner_uv;
-    let (_, transitions) = param.frames();
-    let sides = super::cut::curve_sides(layout);
+    let frames = param.frames();
     let mut pieces: Vec<Vec<u32>> = vec![Vec::new(); mesh.n_faces()];
     for (t, &o) in cut.triangle_origin.iter().enumerate() {
         pieces[o as usize].push(t as u32);
     }
-    let across = |c: u32, from: u32| -> Option<(u32, Affine)> {
-        let [l, r] = sides[c as usize];
-        if r == NONE {
-            None
-        } else if from == l {
-            Some((r, transitions[c as usize]))
-        } else if from == r {
-            transitions[c as usize].inverse().map(|m| (l, m))
-        } else {
-            None
-        }
-    };
     mesh.triangles()
         .iter()
         .enumerate()
@@ -68,7 +55,7 @@ pub fn input_corner_uv(mesh: &Mesh, layout: &SurfaceLayout, param: &ParamSession
                         return map.apply(x);
                     }
                     for &c in &curves {
-                        if let Some((g, step)) = across(c, f) {
+                        if let Some((g, step)) = frames.across(c, f) {
                             if !seen.contains(&g) {
                                 seen.push(g);
                                 frontier.insert(0, (g, step.after(&map)));

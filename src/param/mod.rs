@@ -5,10 +5,31 @@
 //! transitions rebuilt ([`transition`]) and the global system solved again ([`system`]);
 //! finally the user's alignment tags restored and a last solve. The browser runs one
 //! iteration per call; the command line runs them all.
+//!
+//! # Where each equation of the paper lives
+//!
+//! | paper | what | code |
+//! |---|---|---|
+//! | eq. 1 | harmonic condition in one chart | [`system`]: the Dirichlet energy, whose minimizer is harmonic |
+//! | eq. 2 | cotangent weights | [`crate::geom::cotangent`], summed per edge by `mesh::geometry::cotangent_weights`, per triangle by [`system::cotangent_halves`] |
+//! | eq. 3 | harmonic condition across charts | [`system::System::solve`] (symmetric form; eq. 3 as written in `eq3.rs`, feature `eq3`, compared in `docs/formulations.md`) |
+//! | eq. 4 | transition functions | [`transition::Affine::transition`], one per curve in [`frames::ChartFrames`] |
+//! | eq. 5, 6 | Jacobian, singular values | [`chart::distortion`] (doc) |
+//! | eq. 7 | isometric distortion ‖JᵀJ − I‖²_F | [`chart::distortion`] |
+//! | eq. 8 | a triangle's Jacobian | [`chart::rest_frame`], [`chart::distortion`] |
+//! | eq. 9 | bilinear coordinates in a chart | [`chart::Chart::point`], [`chart::Chart::bilinear_coords`] |
+//! | eq. 10 | chart energy | [`chart::energy`], minimized by [`chart::optimize`] |
+//! | Section 3.1 loop | optimize, rebuild transitions, solve | [`ParamSession::new`], [`ParamSession::step`], [`ParamSession::finish`] |
+//! | eq. 11 | alignment of tagged curves | [`system::System`]: a tagged curve's vertices keep one unknown along their side |
+//! | eq. 12 | mixed least squares | [`system::System`]: the equivalent elimination (module doc) |
+//! | Section 3.3 | T-vertices | `FaceDomain::nodes` (a node at a fixed share of its side), a transition per curve piece |
+//! | Section 4 | sample counts, grids, back-mapping | [`crate::quad::counts::sample_counts`], [`crate::quad::extract`] |
 
 pub mod anderson;
 pub mod chart;
 pub mod cut;
+pub mod frames;
+#[cfg(feature = "eq3")]
 pub mod eq3;
 pub mod input_uv;
 pub mod system;
@@ -21,36 +42,123 @@ use cut::{curve_sides, cut_mesh, CutMesh};
 use crate::clock::now;
 use std::collections::HashMap;
 pub use system::StageTimes;
-use system::{NodePositions, Solution, System};
+use frames::{ChartFrames, NodePositions};
+use system::{Solution, System};
 pub use system::ParamError;
-use transition::Affine;
 
-/// Settings of a parameterization run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Settings of a parameterization run: start from [`ParamOptions::DEFAULT`] and set what you
+/// need (`let mut o = ParamOptions::DEFAULT; o.align = false;`).
+///
+/// The page's `startParam` takes the same settings as one JS object, by these names
+/// (`chart` for [`default_chart`](Self::default_chart)); what it leaves out keeps its
+/// default, and a key that is none of [`ParamOptions::KEYS`] is refused.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
 pub struct ParamOptions {
-    /// Chart-optimization iterations (paper Section 3.1). Default 3.
+    /// Chart-optimization iterations (paper Section 3.1) that `quadlay remesh` runs between
+    /// [`ParamSession::new`] and [`ParamSession::finish`] (the page calls
+    /// [`ParamSession::step`] itself). Default 3.
     pub iterations: usize,
-    /// Honour the layout's alignment tags in the final solve. Default true.
+    /// Honour the layout's alignment tags in the final solve; false (`--no-align`) aligns
+    /// only the boundary pieces there. Default true.
     pub align: bool,
+    /// The chart type of every face whose `patches` entry names none (`--chart`); `None`
+    /// keeps the layout's `defaults.chart`. Default `None`.
+    #[serde(rename = "chart")]
+    pub default_chart: Option<ChartType>,
     /// Accelerate the chart-optimization loop (Anderson mixing, see [`anderson`]); false
     /// runs the paper's plain loop. Default true.
     pub accelerate: bool,
-    /// Which global system every solve uses. Default [`Formulation::Symmetric`].
-    pub formulation: Formulation,
+    /// How many earlier iterations Anderson mixing combines (0: none, the plain step).
+    /// Default 5.
+    pub anderson_depth: usize,
+    /// An accelerated step is dropped for the plain one when it leaves the valid charts or
+    /// its mean distortion exceeds this many times the previous iteration's: mixing need
+    /// not lower the distortion every time, but a blow-up sends it back. Default 100.
+    pub blow_up: f64,
     /// Shorten a chart step that flips triangles the previous solve did not (see
     /// `ParamSession::without_new_flips`). Default true; false runs the paper's loop as it
     /// is (the formulations are compared that way).
     pub guard_flips: bool,
+    /// Shares of a chart step tried in turn when the full step flips triangles the previous
+    /// solve did not (with [`guard_flips`](Self::guard_flips)). Each in (0, 1]. Default
+    /// `[0.5, 0.25]`.
+    pub step_shares: [f64; 2],
+    /// Clean iterations in a row (a shortened step share kept, no new flips) before the
+    /// share is doubled again: the share recovers when folds stop, and cannot shrink
+    /// towards no step at all over many iterations. Default 2.
+    pub grow_after: u32,
+    /// Shares of each untagged curve's vertices, at each end, held on the chart side in the
+    /// final solve's successive attempts when releasing the curves folds triangles (see
+    /// [`ParamSession::finish`]); after them, every curve aligned. Each in [0, 1]. Default
+    /// `[0.1, 0.25]`.
+    pub final_anchors: [f64; 2],
+    /// Which global system every solve uses (a comparison for tests, behind the `eq3`
+    /// feature). Default [`Formulation::Symmetric`].
+    #[cfg(feature = "eq3")]
+    #[serde(skip)]
+    pub formulation: Formulation,
+}
+
+impl ParamOptions {
+    /// The defaults, each documented on its field.
+    pub const DEFAULT: ParamOptions = ParamOptions {
+        iterations: 3,
+        align: true,
+        default_chart: None,
+        accelerate: true,
+        anderson_depth: 5,
+        blow_up: 100.0,
+        guard_flips: true,
+        step_shares: [0.5, 0.25],
+        grow_after: 2,
+        final_anchors: [0.1, 0.25],
+        #[cfg(feature = "eq3")]
+        formulation: Formulation::Symmetric,
+    };
+
+    /// The names the page may give (serde's names of the fields).
+    pub const KEYS: [&'static str; 10] = [
+        "iterations",
+        "align",
+        "chart",
+        "accelerate",
+        "anderson_depth",
+        "blow_up",
+        "guard_flips",
+        "step_shares",
+        "grow_after",
+        "final_anchors",
+    ];
+
+    /// The first setting out of its range, with what it must be.
+    ///
+    /// # Errors
+    /// [`ParamError::Option`] naming the field.
+    pub fn check(&self) -> Result<(), ParamError> {
+        let bad = |name: &'static str, must: &'static str| Err(ParamError::Option { name, must });
+        if self.blow_up.is_nan() || self.blow_up < 1.0 {
+            return bad("blow_up", "a number of at least 1");
+        }
+        if !self.step_shares.iter().all(|&s| s > 0.0 && s <= 1.0) {
+            return bad("step_shares", "two numbers above 0 and at most 1");
+        }
+        if !self.final_anchors.iter().all(|&s| (0.0..=1.0).contains(&s)) {
+            return bad("final_anchors", "two numbers from 0 to 1");
+        }
+        Ok(())
+    }
 }
 
 impl Default for ParamOptions {
     fn default() -> Self {
-        ParamOptions { iterations: 3, align: true, accelerate: true, formulation: Formulation::Symmetric, guard_flips: true }
+        ParamOptions::DEFAULT
     }
 }
 
 /// The global system of eq. 3 (see [`system`] for why we chose the symmetric one).
+#[cfg(feature = "eq3")]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Formulation {
     /// Dirichlet energy with each triangle in its face's chart, sparse Cholesky ([`system`]).
@@ -86,20 +194,6 @@ struct FaceDomain {
     nodes: Vec<(u32, usize, f64)>,
 }
 
-/// Shares of each untagged curve's vertices, at each end, kept on the chart side in the
-/// final solve's successive attempts (see [`ParamSession::finish`]); after them, every
-/// curve aligned.
-pub const FINAL_ANCHORS: [f64; 2] = [0.1, 0.25];
-
-/// Shares of a chart step tried when the full step flips triangles (see
-/// `ParamSession::without_new_flips`).
-pub const STEP_SHARES: [f64; 2] = [0.5, 0.25];
-
-/// Clean iterations in a row (a shortened step share kept, no new flips) before the share is
-/// doubled again (see `ParamSession::without_new_flips`): the share recovers when folds stop,
-/// and cannot shrink towards no step at all over many iterations.
-pub const GROW_AFTER: u32 = 2;
-
 /// The state of a parameterization: refined mesh, charts, factorizations, history.
 pub struct ParamSession {
     cut: CutMesh,
@@ -113,18 +207,16 @@ pub struct ParamSession {
     /// The systems of the loop (every curve aligned) and of the final solve (the user's tags).
     all_aligned: System,
     user_aligned: System,
-    formulation: Formulation,
-    guard_flips: bool,
-    /// The curves aligned in the final solve (for [`Formulation::Eq3`], which keeps no state).
+    options: ParamOptions,
+    /// The curves aligned in the final solve.
     user_tags: Vec<bool>,
     history: Vec<IterationStats>,
     last: Solution,
     final_solution: Option<(Solution, Distortion)>,
     anderson: anderson::Anderson,
-    accelerate: bool,
     /// The share of its chart step an iteration starts from: 1 until a step had to be
     /// shortened (see [`ParamSession::without_new_flips`]), then the share that was kept,
-    /// doubled again after [`GROW_AFTER`] clean iterations in a row.
+    /// doubled again after [`ParamOptions::grow_after`] clean iterations in a row.
     step_share: f64,
     /// Iterations in a row that kept the share and flipped no new triangles.
     kept_steps: u32,
@@ -146,6 +238,7 @@ impl ParamSession {
     /// # Errors
     /// [`ParamError`] if the system cannot be solved or the mesh is too coarse.
     pub fn new(mesh: &Mesh, layout: &SurfaceLayout, options: &ParamOptions) -> Result<ParamSession, ParamError> {
+        options.check()?;
         let t0 = now();
         let cut = cut_mesh(mesh, layout);
         let sides = curve_sides(layout);
@@ -164,7 +257,7 @@ impl ParamSession {
                     along += curve_len[d.curve as usize];
                 }
             }
-            domains.push(FaceDomain { kind: chart_kind(f.chart), nodes });
+            domains.push(FaceDomain { kind: chart_kind(f.chart_with_default(options.default_chart)), nodes });
         }
         // One common side for unit charts, so chart types compare by shape, not by units.
         let side = side_lengths.iter().sum::<f64>() / side_lengths.len().max(1) as f64;
@@ -200,14 +293,12 @@ impl ParamSession {
             weights,
             all_aligned,
             user_aligned,
-            formulation: options.formulation,
-            guard_flips: options.guard_flips,
+            options: *options,
             user_tags,
             history: Vec::new(),
             last: Solution { corner_uv: Vec::new() },
             final_solution: None,
-            anderson: anderson::Anderson::new(5),
-            accelerate: options.accelerate,
+            anderson: anderson::Anderson::new(options.anderson_depth),
             step_share: 1.0,
             kept_steps: 0,
             chart_seconds: 0.0,
@@ -219,10 +310,9 @@ impl ParamSession {
         Ok(session)
     }
 
-    /// Node positions in every chart, and the transitions across every curve: curve `c`'s
-    /// maps the chart of the face on its left to the chart of the face on its right (eq. 4;
-    /// the identity for boundary pieces).
-    pub fn frames(&self) -> (NodePositions, Vec<Affine>) {
+    /// The frames of the current charts: node positions in every chart, the faces beside
+    /// every curve and the transitions across them (eq. 4).
+    pub fn frames(&self) -> ChartFrames {
         let nodes: NodePositions = self
             .domains
             .iter()
@@ -238,28 +328,15 @@ impl ParamSession {
                     .collect::<HashMap<u32, [f64; 2]>>()
             })
             .collect();
-        let transitions = self
-            .cut
-            .curve_vertices
-            .iter()
-            .zip(&self.sides)
-            .map(|(verts, &[l, r])| {
-                if r == NONE {
-                    return Affine::IDENTITY;
-                }
-                let [p, q] = [verts[0], verts[verts.len() - 1]].map(|v| self.cut.vertex_node[v as usize]);
-                let at = |f: u32, n: u32| nodes[f as usize].get(&n).copied().unwrap_or([0.0, 0.0]);
-                Affine::transition(at(l, p), at(l, q), at(r, p), at(r, q))
-            })
-            .collect();
-        (nodes, transitions)
+        ChartFrames::new(&self.cut, nodes, self.sides.clone())
     }
 
     /// A solve with every curve aligned (`None`, the loop's), or the final one with the
     /// user's tags and that share of every untagged curve's ends held on its side.
     fn solve(&mut self, final_anchor: Option<f64>) -> Result<Solution, ParamError> {
-        let (nodes, transitions) = self.frames();
-        if self.formulation == Formulation::Eq3 {
+        let frames = self.frames();
+        #[cfg(feature = "eq3")]
+        if self.options.formulation == Formulation::Eq3 {
             let every;
             let aligned = if final_anchor.is_none() {
                 every = vec![true; self.sides.len()];
@@ -267,13 +344,13 @@ impl ParamSession {
             } else {
                 &self.user_tags
             };
-            return eq3::solve_eq3(&self.cut, aligned, &nodes, &self.sides, &transitions, &self.weights);
+            return eq3::solve_eq3(&self.cut, aligned, &frames, &self.weights);
         }
         let (system, held) = match final_anchor {
             None => (&mut self.all_aligned, Vec::new()),
             Some(anchor) => (&mut self.user_aligned, system::held_on_side(&self.cut, &self.user_tags, anchor)),
         };
-        system.solve(&self.cut, &nodes, &self.sides, &transitions, &self.weights, &held)
+        system.solve(&self.cut, &frames, &self.weights, &held)
     }
 
     fn distortion(&self, sol: &Solution) -> Distortion {
@@ -330,7 +407,7 @@ impl ParamSession {
         let flat = |charts: &[Chart]| -> Vec<f64> {
             charts.iter().zip(&kinds).flat_map(|(c, &k)| c.with_kind(k).free_vars()).collect()
         };
-        let mixed = if self.accelerate {
+        let mixed = if self.options.accelerate {
             self.anderson.next(&flat(&self.charts), &flat(&fitted))
         } else {
             flat(&fitted)
@@ -358,7 +435,7 @@ impl ParamSession {
                 let d = self.distortion(&sol);
                 (sol, d)
             })
-            .filter(|(_, d)| d.mean <= 100.0 * previous);
+            .filter(|(_, d)| d.mean <= self.options.blow_up * previous);
         let (sol, distortion) = match accepted {
             Some(result) => result,
             None => {
@@ -396,7 +473,7 @@ impl ParamSession {
     }
 
     /// A chart step that flips triangles the previous solve did not is shortened: the charts
-    /// move only part of the way from `start` ([`STEP_SHARES`]). The isometry energy of
+    /// move only part of the way from `start` ([`ParamOptions::step_shares`]). The isometry energy of
     /// Section 3.1 is measured on the current parameterization and knows nothing of the
     /// harmonic solve that follows, so a chart that fits its triangles best can still ask
     /// the solve to fold triangles near a corner whose chart angle moved far from its
@@ -405,7 +482,7 @@ impl ParamSession {
     /// The share kept is where the next iteration starts: a layout whose full steps fold
     /// triangles keeps folding them (bunny-ears' full steps flipped 2, 8 and 16 triangles,
     /// every half step none), and each solve tried in vain costs a factorization. After
-    /// [`GROW_AFTER`] clean iterations in a row it doubles again (at most to 1).
+    /// [`ParamOptions::grow_after`] clean iterations in a row it doubles again (at most to 1).
     fn without_new_flips(
         &mut self,
         start: &[Chart],
@@ -413,9 +490,9 @@ impl ParamSession {
         d: Distortion,
     ) -> Result<(Solution, Distortion), ParamError> {
         let before = self.history.last().map_or(usize::MAX, |h| h.distortion.flipped);
-        if !self.guard_flips || d.flipped <= before {
+        if !self.options.guard_flips || d.flipped <= before {
             self.kept_steps += 1;
-            if self.kept_steps >= GROW_AFTER && self.step_share < 1.0 {
+            if self.kept_steps >= self.options.grow_after && self.step_share < 1.0 {
                 self.step_share = (2.0 * self.step_share).min(1.0);
                 self.kept_steps = 0;
             }
@@ -423,7 +500,7 @@ impl ParamSession {
         }
         let full = self.charts.clone();
         let mut best = (sol, d, full.clone(), 1.0);
-        for &share in &STEP_SHARES {
+        for share in self.options.step_shares {
             self.charts = self.between(start, &full, share);
             let sol = self.solve(None)?;
             let d = self.distortion(&sol);
@@ -452,7 +529,7 @@ impl ParamSession {
     /// keep the curves' order around a node whose chart angles differ much from its surface
     /// angles (mushroom-t folded 10 triangles, then 4 and 0 with anchors; eight-rims 2). When the released solve flips
     /// more triangles than the all-aligned one before it, the curves' ends are kept on their
-    /// sides over a growing share of their vertices ([`FINAL_ANCHORS`]) until it does not, or
+    /// sides over a growing share of their vertices ([`ParamOptions::final_anchors`]) until it does not, or
     /// until a larger share stops lowering the count (then more will not help); the last
     /// resort aligns every curve, which is the all-aligned solve itself (reused). So the final
     /// solve never flips more than the optimization phase, and keeps the user's freedom
@@ -469,7 +546,12 @@ impl ParamSession {
             return Ok(d);
         }
         let before = self.history.last().map_or(0, |h| h.distortion.flipped);
-        let anchors: &[f64] = if self.formulation == Formulation::Symmetric { &FINAL_ANCHORS } else { &[] };
+        // Eq. 3 (a comparison) is solved as the paper states it, without anchors.
+        let final_anchors = self.options.final_anchors;
+        #[cfg(feature = "eq3")]
+        let anchors: &[f64] = if self.options.formulation == Formulation::Symmetric { &final_anchors } else { &[] };
+        #[cfg(not(feature = "eq3"))]
+        let anchors: &[f64] = &final_anchors;
         let mut sol = self.solve(Some(0.0))?;
         let mut d = self.distortion(&sol);
         let mut fewest = usize::MAX;
@@ -498,7 +580,7 @@ impl ParamSession {
 
     /// Every node's position in the chart of each face it is on: `[face][&node]`.
     pub fn node_positions(&self) -> NodePositions {
-        self.frames().0
+        self.frames().nodes
     }
 
     /// Seconds per stage over all solves and chart optimizations so far.
@@ -542,5 +624,43 @@ impl ParamSession {
     /// iteration's.
     pub fn solution(&self) -> &Solution {
         self.final_solution.as_ref().map_or(&self.last, |(s, _)| s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`ParamOptions::KEYS`] are exactly serde's names of the fields, every one read back,
+    /// and a key that is none of them is refused.
+    #[test]
+    fn options_keys_are_the_serde_fields() {
+        let json = serde_json::to_value(ParamOptions::DEFAULT).unwrap();
+        let mut keys: Vec<&str> = json.as_object().unwrap().keys().map(String::as_str).collect();
+        keys.sort_unstable();
+        let mut known = ParamOptions::KEYS.to_vec();
+        known.sort_unstable();
+        assert_eq!(keys, known);
+        let back: ParamOptions = serde_json::from_value(json).unwrap();
+        assert_eq!(back, ParamOptions::DEFAULT);
+        let some: ParamOptions = serde_json::from_str(r#"{"chart": "rect", "final_anchors": [0.2, 0.3]}"#).unwrap();
+        assert_eq!((some.default_chart, some.final_anchors, some.align), (Some(ChartType::Rect), [0.2, 0.3], true));
+        let e = serde_json::from_str::<ParamOptions>(r#"{"chart": "hex"}"#).unwrap_err().to_string();
+        assert!(e.starts_with("unknown chart type 'hex' (quad, rect or unit)"), "{e}");
+        assert!(serde_json::from_str::<ParamOptions>(r#"{"default_chart": "rect"}"#).is_err());
+    }
+
+    #[test]
+    fn options_out_of_range_are_named() {
+        assert_eq!(ParamOptions::DEFAULT.check(), Ok(()));
+        let mut o = ParamOptions::DEFAULT;
+        o.step_shares = [0.5, 0.0];
+        assert_eq!(o.check(), Err(ParamError::Option { name: "step_shares", must: "two numbers above 0 and at most 1" }));
+        o = ParamOptions::DEFAULT;
+        o.blow_up = f64::NAN;
+        assert!(matches!(o.check(), Err(ParamError::Option { name: "blow_up", .. })));
+        o = ParamOptions::DEFAULT;
+        o.final_anchors = [0.1, 1.5];
+        assert!(matches!(o.check(), Err(ParamError::Option { name: "final_anchors", .. })));
     }
 }

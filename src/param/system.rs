@@ -17,65 +17,16 @@
 //! that satisfy it — which is what eq. 12 computes, with the relaxed harmonic rows being
 //! the vertices' energy gradients.
 //!
-//! # Why symmetric: measured against eq. 3 as written
-//!
-//! [`super::eq3`] assembles eq. 3 itself on the same refined mesh and unknowns (normalized
-//! cotangent rows, neighbours brought in by the transitions, the rows of aligned vertices
-//! projected onto their side) and solves it by sparse LU; `ParamOptions::formulation` runs a
-//! whole session with it. `cargo test --test param_formulations -- --nocapture` (default
-//! options; mean of eq. 7 / flipped triangles; "loop": after the last chart iteration, every
-//! edge aligned; "final": the user's tags; seconds per run, chart optimization included; the
-//! known answers run the paper's loop as it is, the samples the loop with the fold guard, as
-//! the product runs it):
-//!
-//! | case          | it. | loop: symmetric | loop: eq. 3  | final: symmetric | final: eq. 3 | s, sym / eq. 3 |
-//! |---------------|-----|-----------------|--------------|------------------|--------------|----------------|
-//! | planar-quad   |  3  | 8.970e-2 / 0    | 8.970e-2 / 0 | 8.970e-2 / 0     | 8.970e-2 / 0 | 0.01 / 0.03    |
-//! | planar-quad   | 30  | 2.6e-24 / 0     | 2.8e-24 / 0  | 2.6e-24 / 0      | 2.8e-24 / 0  | 0.05 / 0.15    |
-//! | planar-2x2    |  3  | 3.604e-3 / 0    | 3.720e-3 / 0 | 3.764e-3 / 0     | 3.893e-3 / 0 | 0.01 / 0.02    |
-//! | planar-2x2    | 30  | 9.1e-23 / 0     | 2.8e-19 / 0  | 9.1e-23 / 0      | 2.8e-19 / 0  | 0.07 / 0.17    |
-//! | sheared-cube  |  3  | 2.661e-3 / 0    | 2.655e-3 / 0 | 2.608e-3 / 0     | 2.600e-3 / 0 | 0.01 / 0.05    |
-//! | sheared-cube  | 30  | 1.1e-24 / 0     | 3.4e-25 / 0  | 1.1e-24 / 0      | 3.5e-25 / 0  | 0.11 / 0.35    |
-//! | mushroom-4    |  3  | 1.158 / 0       | 1.158 / 0    | 1.158 / 0        | 1.158 / 0    | 0.10 / 0.35    |
-//! | mushroom-grid |  3  | 0.8956 / 0      | 0.8957 / 0   | 0.8956 / 0       | 0.8957 / 0   | 0.11 / 0.38    |
-//! | mushroom-t    |  3  | 0.6961 / 0      | 0.7031 / 4   | 0.6995 / 0       | 0.7217 / 8   | 0.11 / 0.46    |
-//! | eight-rims    |  3  | 0.2125 / 2      | 0.2148 / 2   | 0.1824 / 2       | 0.1830 / 2   | 0.02 / 0.07    |
-//! | fandisk-cube  |  3  | 0.3098 / 0      | 0.3239 / 7   | 0.3098 / 0       | 0.3239 / 7   | 0.31 / 1.21    |
-//! | fandisk-features | 3 | 13.25 / 0      | 13.33 / 0    | 13.25 / 0        | 13.33 / 0    | 0.14 / 0.71    |
-//! | bunny-cube    |  3  | 0.5317 / 0      | 0.5288 / 0   | 0.4902 / 0       | 0.4899 / 3   | 1.64 / 8.54    |
-//! | bunny-ears    |  3  | 168.5 / 0       | 168.6 / 48   | 168.5 / 0        | 168.6 / 48   | 0.75 / 6.39    |
-//!
-//! After 20 iterations the known answers are at 1.9e-8 (planar quad, both), 1.6e-13 / 5.2e-14
-//! (2×2) and 8.0e-20 / 1.6e-18 (cube): both formulations reach the isometries, and below 1e-9
-//! their ratio is rounding noise. We keep the symmetric system because
-//! - where the transitions are rigid (one chart; unit charts without T-vertices) both are the
-//!   same harmonic map: iteration 0 and the single-patch runs agree to the printed digits
-//!   (down to rounding, 1e-24);
-//! - where they scale, the chart loop ends within 1 % of eq. 3 on every case, equal or lower
-//!   on seven of the eight samples (fandisk 4.4 %, eight-rims 1.1 %, mushroom-t 1.0 % lower),
-//!   0.55 % higher on bunny-cube; and
-//!   it flips no more triangles (eq. 3: 27 flipped on mushroom-t at iteration 0, whose
-//!   T-vertex pieces scale even between unit charts, 7 on fandisk after the loop, 57 on
-//!   bunny-ears' unit charts and 48 after its loop);
-//! - solved once with the same charts the two differ by at most 1.2 % (fandisk 0.3098 vs
-//!   0.3082, bunny 0.5317 vs 0.5285, eight-rims 0.2125 vs 0.2150): the formulation matters
-//!   less than where the chart loop leads; the exception is bunny-ears' grid layout (12
-//!   T-vertices), where eq. 3 is 7 % higher (180.7 against the symmetric 168.5);
-//! - it is symmetric positive definite: Cholesky with the symbolic factorization kept across
-//!   solves, 3–9× faster per run than eq. 3's LU (symbolic analysis redone per solve).
-//!
-//! Without the fold guard (the paper's loop as it is) the symmetric map of mushroom-t's final
-//! solve, which releases its untagged curves, ends 3.2 % above eq. 3's, both folding (10
-//! against 8), and bunny-ears' loop folds 50 triangles against eq. 3's 48 (mean 168.3 against
-//! 168.6): two folded maps, whose distortions say little about the formulations.
+//! Why this formulation and not eq. 3 as written: `docs/formulations.md` compares the two on
+//! the known answers and the sample layouts (`cargo test --test param_formulations`).
 
 use super::cut::CutMesh;
+use super::frames::ChartFrames;
 use super::transition::Affine;
 use crate::geom::{cotangent, perp2};
 use crate::clock::now;
 use crate::mesh::NONE;
 use crate::solve::{SolveError, SpdSolver};
-use std::collections::HashMap;
 use std::fmt;
 
 /// The unknowns of one vertex.
@@ -89,9 +40,6 @@ pub(super) enum Var {
     OnSide(u32),
 }
 
-/// Positions of the nodes in each face's chart (corners and T-vertices).
-pub type NodePositions = Vec<HashMap<u32, [f64; 2]>>;
-
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParamError {
     Solve(SolveError),
@@ -100,6 +48,8 @@ pub enum ParamError {
     NodeNotOnFace { node: u32, face: u32 },
     /// A triangle has a vertex from a face that is not its neighbour across a curve.
     NotNeighbours { vertex: u32, face: u32 },
+    /// A setting of [`super::ParamOptions`] is out of its range: `name` must be `must`.
+    Option { name: &'static str, must: &'static str },
 }
 
 impl fmt::Display for ParamError {
@@ -109,6 +59,7 @@ impl fmt::Display for ParamError {
             ParamError::NodeNotOnFace { node, face } => {
                 write!(f, "a triangle of face {face} touches node {node}, which is not on that face; the mesh is too coarse there")
             }
+            ParamError::Option { name, must } => write!(f, "the option {name} must be {must}"),
             ParamError::NotNeighbours { vertex, face } => {
                 write!(f, "a triangle of face {face} reaches vertex {vertex} of a face that is not its neighbour; the mesh is too coarse there")
             }
@@ -217,6 +168,39 @@ pub(super) fn unknowns(cut: &CutMesh, aligned: &[bool], anchor: f64) -> (Vec<Var
         })
         .collect();
     (vars, n as usize)
+}
+
+/// Every vertex with unknowns (`vars`) in the chart of its own face, as an expression: a
+/// vertex off the curves by its own (u, v); a curve vertex by its coordinates along and
+/// across its chart side from node p to node q, `p + s (q − p) + n (q − p)⊥`, with the n
+/// column zero where it is held on the side (`held`, or an [`Var::OnSide`] vertex). `None`
+/// for fixed vertices.
+///
+/// # Errors
+/// [`ParamError::NodeNotOnFace`] if a curve's end node is not on the face left of it (a
+/// mesh too coarse for the layout).
+pub(super) fn own_exprs(cut: &CutMesh, vars: &[Var], frames: &ChartFrames, held: &[bool]) -> Result<Vec<Option<Expr>>, ParamError> {
+    let ends: Vec<Option<([f64; 2], [f64; 2])>> =
+        (0..cut.curve_vertices.len() as u32).map(|c| frames.curve_ends(cut, c)).collect();
+    (0..cut.positions.len())
+        .map(|vi| {
+            let var = vars[vi];
+            if var == Var::Fixed {
+                return Ok(None);
+            }
+            let c = cut.vertex_curve[vi];
+            if c == NONE {
+                return Ok(Some(Expr { var, m: [[1.0, 0.0], [0.0, 1.0]], b: [0.0, 0.0] }));
+            }
+            let Some((p, q)) = ends[c as usize] else {
+                let first = cut.curve_vertices[c as usize][0];
+                return Err(ParamError::NodeNotOnFace { node: cut.vertex_node[first as usize], face: cut.vertex_face[vi] });
+            };
+            let d = [q[0] - p[0], q[1] - p[1]];
+            let n = if held.get(vi) == Some(&true) || matches!(var, Var::OnSide(_)) { [0.0, 0.0] } else { perp2(d) };
+            Ok(Some(Expr { var, m: [[d[0], n[0]], [d[1], n[1]]], b: p }))
+        })
+        .collect()
 }
 
 /// Half the cotangent of each triangle corner: the Dirichlet energy of a linear map on a
@@ -387,79 +371,6 @@ impl System {
         self.solver.as_ref().map_or(0, SpdSolver::factor_nnz)
     }
 
-    /// Every non-fixed vertex in the chart of its own face, as an expression (the n column
-    /// of a vertex held on its side left zero); `None` for fixed vertices.
-    fn own_exprs(
-        &self,
-        cut: &CutMesh,
-        nodes: &NodePositions,
-        sides: &[[u32; 2]],
-        held: &[bool],
-    ) -> Result<Vec<Option<Expr>>, ParamError> {
-        // Per curve: its end nodes in the chart of the face on its left, which owns its
-        // vertices (`cut_mesh`).
-        let ends: Vec<Option<([f64; 2], [f64; 2])>> = cut
-            .curve_vertices
-            .iter()
-            .zip(sides)
-            .map(|(verts, side)| {
-                let (&first, &last) = (verts.first()?, verts.last()?);
-                let chart = nodes.get(side[0] as usize)?;
-                Some((*chart.get(&cut.vertex_node[first as usize])?, *chart.get(&cut.vertex_node[last as usize])?))
-            })
-            .collect();
-        (0..cut.positions.len())
-            .map(|vi| {
-                let var = self.vars[vi];
-                if var == Var::Fixed {
-                    return Ok(None);
-                }
-                let c = cut.vertex_curve[vi];
-                if c == NONE {
-                    return Ok(Some(Expr { var, m: [[1.0, 0.0], [0.0, 1.0]], b: [0.0, 0.0] }));
-                }
-                let Some((p, q)) = ends[c as usize] else {
-                    let first = cut.curve_vertices[c as usize][0];
-                    return Err(ParamError::NodeNotOnFace { node: cut.vertex_node[first as usize], face: cut.vertex_face[vi] });
-                };
-                let d = [q[0] - p[0], q[1] - p[1]];
-                let n = if held.get(vi) == Some(&true) || matches!(var, Var::OnSide(_)) { [0.0, 0.0] } else { perp2(d) };
-                Ok(Some(Expr { var, m: [[d[0], n[0]], [d[1], n[1]]], b: p }))
-            })
-            .collect()
-    }
-
-    /// Vertex `v` of a triangle in face `face`, in that face's chart.
-    fn expr(
-        &self,
-        cut: &CutMesh,
-        own: &[Option<Expr>],
-        v: u32,
-        face: u32,
-        nodes: &NodePositions,
-        sides: &[[u32; 2]],
-        transitions: &[Affine],
-    ) -> Result<Expr, ParamError> {
-        let vi = v as usize;
-        let node = cut.vertex_node[vi];
-        if node != NONE {
-            let p = nodes[face as usize].get(&node).ok_or(ParamError::NodeNotOnFace { node, face })?;
-            return Ok(Expr::fixed(*p));
-        }
-        let Some(base) = own[vi] else {
-            return Ok(Expr::fixed([0.0, 0.0]));
-        };
-        let home = cut.vertex_face[vi];
-        if home == face {
-            return Ok(base);
-        }
-        let c = cut.vertex_curve[vi];
-        if c != NONE && sides[c as usize] == [home, face] {
-            return Ok(base.transformed(&transitions[c as usize]));
-        }
-        Err(ParamError::NotNeighbours { vertex: v, face })
-    }
-
     /// The first solve's assembly: every candidate entry, the pattern kept, the symbolic
     /// and numeric factorization.
     fn first_solve(&mut self, a: &Assembly, rhs: &mut [f64], t0: f64) -> Result<(), ParamError> {
@@ -602,29 +513,19 @@ impl System {
         self.released(cut).map(move |(v, _)| if held.get(v) == Some(&true) { 1.0 } else { 0.0 })
     }
 
-    /// Assembles and solves the system for the given node positions and transitions
-    /// (`transitions[c]` maps the chart left of curve c to the chart on its right), with the
-    /// refined mesh's [`cotangent_halves`] as `weights`, holding the vertices `held` on
-    /// their chart sides (see [`held_on_side`]; aligned curves' always are, and an empty
-    /// `held` holds no others).
+    /// Assembles and solves the system in the charts of `frames` (node positions and
+    /// transitions), with the refined mesh's [`cotangent_halves`] as `weights`, holding the
+    /// vertices `held` on their chart sides (see [`held_on_side`]; aligned curves' always
+    /// are, and an empty `held` holds no others).
     ///
     /// # Errors
     /// [`ParamError`]: a failed factorization, or a mesh too coarse for the layout.
-    #[allow(clippy::too_many_arguments)]
-    pub fn solve(
-        &mut self,
-        cut: &CutMesh,
-        nodes: &NodePositions,
-        sides: &[[u32; 2]],
-        transitions: &[Affine],
-        weights: &[[f64; 3]],
-        held: &[bool],
-    ) -> Result<Solution, ParamError> {
+    pub fn solve(&mut self, cut: &CutMesh, frames: &ChartFrames, weights: &[[f64; 3]], held: &[bool]) -> Result<Solution, ParamError> {
         let t0 = now();
-        let own = self.own_exprs(cut, nodes, sides, held)?;
+        let own = own_exprs(cut, &self.vars, frames, held)?;
         let exprs_of = |t: usize| -> Result<[Expr; 3], ParamError> {
             let (tri, face) = (&cut.triangles[t], cut.triangle_face[t]);
-            let e = |k: usize| self.expr(cut, &own, tri[k], face, nodes, sides, transitions);
+            let e = |k: usize| frames.vertex_expr(cut, &own, tri[k], face);
             Ok([e(0)?, e(1)?, e(2)?])
         };
         let first = self.solver.is_none();

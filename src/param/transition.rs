@@ -6,42 +6,36 @@
 //! qα − pα onto +x, scale along x by |qβ − pβ| / |qα − pα|, then undo β's rotation and
 //! translation. Both charts are oriented like the surface, so no reflection is needed.
 
+use crate::geom::{add2, det, dist2, inverse_with, mat_mul, mat_vec, Mat2, Vec2};
+
 /// An affine map of the plane: `x ↦ m·x + t`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Affine {
-    pub m: [[f64; 2]; 2],
-    pub t: [f64; 2],
+    pub m: Mat2,
+    pub t: Vec2,
 }
 
 impl Affine {
     pub const IDENTITY: Affine = Affine { m: [[1.0, 0.0], [0.0, 1.0]], t: [0.0, 0.0] };
 
-    pub fn apply(&self, x: [f64; 2]) -> [f64; 2] {
-        let m = &self.m;
-        [m[0][0] * x[0] + m[0][1] * x[1] + self.t[0], m[1][0] * x[0] + m[1][1] * x[1] + self.t[1]]
+    pub fn apply(&self, x: Vec2) -> Vec2 {
+        add2(mat_vec(&self.m, x), self.t)
     }
 
     /// `self ∘ other`: first `other`, then `self`.
     pub fn after(&self, other: &Affine) -> Affine {
-        let (a, b) = (&self.m, &other.m);
-        let m = [
-            [a[0][0] * b[0][0] + a[0][1] * b[1][0], a[0][0] * b[0][1] + a[0][1] * b[1][1]],
-            [a[1][0] * b[0][0] + a[1][1] * b[1][0], a[1][0] * b[0][1] + a[1][1] * b[1][1]],
-        ];
-        let t = self.apply(other.t);
-        Affine { m, t }
+        Affine { m: mat_mul(&self.m, &other.m), t: self.apply(other.t) }
     }
 
     /// The inverse map; `None` if the linear part is singular.
     pub fn inverse(&self) -> Option<Affine> {
-        let m = &self.m;
-        let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+        let det = det(&self.m);
         if det == 0.0 || !det.is_finite() {
             return None;
         }
-        let inv = [[m[1][1] / det, -m[0][1] / det], [-m[1][0] / det, m[0][0] / det]];
-        let t = [-(inv[0][0] * self.t[0] + inv[0][1] * self.t[1]), -(inv[1][0] * self.t[0] + inv[1][1] * self.t[1])];
-        Some(Affine { m: inv, t })
+        let inv = inverse_with(&self.m, det);
+        let [x, y] = mat_vec(&inv, self.t);
+        Some(Affine { m: inv, t: [-x, -y] })
     }
 
     /// Rotation by `angle` about the origin, then translation by `t`.
@@ -62,8 +56,7 @@ impl Affine {
     ///
     /// Precondition: p ≠ q in both charts.
     pub fn transition(p_a: [f64; 2], q_a: [f64; 2], p_b: [f64; 2], q_b: [f64; 2]) -> Affine {
-        let len = |p: [f64; 2], q: [f64; 2]| (q[0] - p[0]).hypot(q[1] - p[1]);
-        let s = len(p_b, q_b) / len(p_a, q_a);
+        let s = dist2(q_b, p_b) / dist2(q_a, p_a);
         let scale = Affine { m: [[s, 0.0], [0.0, 1.0]], t: [0.0, 0.0] };
         let frame_b_inv = Affine::edge_frame(p_b, q_b).inverse().unwrap_or(Affine::IDENTITY);
         frame_b_inv.after(&scale).after(&Affine::edge_frame(p_a, q_a))

@@ -10,7 +10,7 @@ pub mod locate;
 use crate::layout::SurfaceLayout;
 use crate::geom::{norm, sub};
 use crate::mesh::{Mesh, NONE};
-use crate::param::transition::Affine;
+use crate::param::frames::ChartFrames;
 use crate::param::ParamSession;
 use counts::{sample_counts, CountError, Equation};
 use locate::{closest_on_segment, ChartIndex, Hit};
@@ -167,8 +167,7 @@ pub fn count_equations(layout: &SurfaceLayout) -> Vec<Equation> {
 struct BackMap<'a> {
     param: &'a ParamSession,
     index: Vec<ChartIndex>,
-    transitions: Vec<Affine>,
-    sides: Vec<[u32; 2]>,
+    frames: &'a ChartFrames,
     /// Grid points found in no triangle of their chart or its neighbours (moved onto the
     /// nearest triangle).
     outside: usize,
@@ -201,9 +200,7 @@ impl BackMap<'_> {
             return self.position(hit);
         }
         for c in near() {
-            let [l, r] = self.sides[c as usize];
-            let (other, map) = if l == face { (r, Some(self.transitions[c as usize])) } else { (l, self.transitions[c as usize].inverse()) };
-            let (Some(map), true) = (map, other != NONE) else { continue };
+            let Some((other, map)) = self.frames.across(c, face) else { continue };
             if let Some(hit) = self.index[other as usize].locate(map.apply(p), ON_SIDE) {
                 return self.position(hit);
             }
@@ -269,7 +266,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
 
     let cut = param.cut();
     let solution = param.solution();
-    let (nodes, transitions) = param.frames();
+    let frames = param.frames();
     let mut per_face: Vec<Vec<(u32, [[f64; 2]; 3])>> = vec![Vec::new(); layout.faces.len()];
     for (t, uv) in solution.corner_uv.iter().enumerate() {
         per_face[cut.triangle_face[t] as usize].push((t as u32, *uv));
@@ -277,11 +274,10 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     let mut map = BackMap {
         param,
         index: per_face.into_iter().map(ChartIndex::new).collect(),
-        transitions,
-        sides: crate::param::cut::curve_sides(layout),
+        frames: &frames,
         outside: 0,
     };
-    let node_at = |f: usize, n: u32| nodes[f].get(&n).copied().unwrap_or([f64::NAN; 2]);
+    let node_at = |f: usize, n: u32| frames.nodes[f].get(&n).copied().unwrap_or([f64::NAN; 2]);
     let pieces_by_distance = |f: usize, p: [f64; 2]| -> Vec<u32> {
         let distance = |a, b| {
             let q = closest_on_segment(p, a, b);
@@ -317,7 +313,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     let mut first_sample = Vec::with_capacity(layout.curves.len());
     for (c, lc) in layout.curves.iter().enumerate() {
         first_sample.push(mesh.positions.len() as u32);
-        let f = map.sides[c][0] as usize;
+        let f = frames.sides[c][0] as usize;
         let (a, b) = (node_at(f, lc.nodes[0]), node_at(f, lc.nodes[1]));
         let k = counts[c];
         for j in 1..k {
