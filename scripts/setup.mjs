@@ -46,6 +46,17 @@ say('rust', cargo);
 // 2. The wasm32 target
 const target = 'wasm32-unknown-unknown';
 const rustup = output('rustup', ['--version']);
+
+// Clippy: `npm test` runs it as a gate (no warnings).
+const clippy = output('cargo', ['clippy', '--version']);
+if (clippy) {
+  say('clippy', clippy);
+} else if (rustup !== null) {
+  run('clippy', 'rustup', ['component', 'add', 'clippy']);
+} else {
+  fail('clippy', 'cargo clippy is missing and there is no rustup to add it; install your toolchain\'s clippy ' +
+    '(Debian: apt-get install rust-clippy), then run this again.');
+}
 if (rustup === null && process.env.QUADLAY_BUILD_STD) {
   say('wasm32', 'QUADLAY_BUILD_STD is set: the build compiles std for wasm32 from source');
 } else if (rustup === null) {

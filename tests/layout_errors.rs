@@ -512,7 +512,7 @@ fn a_face_with_a_handle_is_not_a_disk() {
     assert_eq!(s.faces.iter().map(|f| f.nodes.len()).collect::<Vec<_>>(), vec![ring.len(); 2]);
 
     // A loop around the tube of the torus leaves a cylinder: both sides are one region.
-    let nodes: Vec<Value> = [0, 3, 6, 9].map(|j| at(j)).into_iter().collect();
+    let nodes: Vec<Value> = [0, 3, 6, 9].map(at).into_iter().collect();
     let d = doc(nodes, vec![edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 0)]);
     assert_not_disk(build_err(&t, &d), &[vec![0, 1, 2, 3]], ANNULUS);
 }

@@ -167,7 +167,7 @@ fn triangle_boundary(mesh: &Mesh, f: u32, on_edge: &HashMap<u32, Vec<(f64, u32)>
         out.push(mesh.from_vertex(h));
         if let Some(cross) = on_edge.get(&mesh.edge(h)) {
             // t runs along halfedge 2e; measure it from this side's start.
-            let forward = h % 2 == 0;
+            let forward = h.is_multiple_of(2);
             let mut pts: Vec<(f64, u32)> =
                 cross.iter().map(|&(t, id)| (if forward { t } else { 1.0 - t }, id)).collect();
             pts.sort_by(|a, b| a.0.total_cmp(&b.0));
