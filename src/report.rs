@@ -7,7 +7,7 @@ use crate::layout::SurfaceLayout;
 use crate::mesh::Mesh;
 use crate::param::ParamSession;
 use crate::quad::quality::{measure, Quality};
-use crate::quad::{extract, QuadError, QuadMesh, QuadOptions};
+use crate::quad::{check_reads_back, extract, QuadError, QuadMesh, QuadOptions};
 use crate::summary::LayoutSummary;
 use serde::Serialize;
 
@@ -134,6 +134,7 @@ pub fn extract_and_report(
 ) -> Result<(QuadMesh, Report), QuadError> {
     let t0 = now();
     let (quads, extraction) = extract(layout, param, options)?;
+    check_reads_back(&quads)?;
     let t_mesh = now();
     let quality = measure(mesh, &quads);
     let seconds = Seconds {

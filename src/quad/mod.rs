@@ -9,7 +9,7 @@ pub mod locate;
 
 use crate::layout::SurfaceLayout;
 use crate::geom::{norm, sub};
-use crate::mesh::{Mesh, NONE};
+use crate::mesh::{build_mesh, Mesh, MeshError, TriangleSoup, NONE};
 use crate::param::frames::ChartFrames;
 use crate::param::ParamSession;
 use counts::{sample_counts, CountError, Equation};
@@ -85,6 +85,10 @@ pub enum QuadError {
     /// [`MEMORY_BUDGET`]): about `quads` (infinite when a curve's length over the edge length
     /// overflows).
     TooMany { quads: f64 },
+    /// The quad mesh would not read back as a valid mesh (a quad folded over a neighbour,
+    /// or with three corners on a line next to another such): `quad` is the first one the
+    /// reader's check names, `at` its centre.
+    Unreadable { quad: Option<u32>, at: [f64; 3], error: MeshError },
 }
 
 impl fmt::Display for QuadError {
@@ -98,6 +102,16 @@ impl fmt::Display for QuadError {
                 pieces.join(", ")
             ),
             QuadError::Counts { error, .. } => write!(f, "{error}"),
+            QuadError::Unreadable { quad, at, error } => {
+                let which = quad.map_or("a quad".to_string(), |q| format!("quad {q}"));
+                write!(
+                    f,
+                    "the quad mesh would not read back: {which} (near {:.6}, {:.6}, {:.6}) folds over its neighbours or has \
+                     three corners on a line ({error}); choose a shorter edge length, or tag the layout edges there for \
+                     alignment",
+                    at[0], at[1], at[2]
+                )
+            }
             QuadError::TooMany { quads } => {
                 let gb = |quads: f64| quads * BYTES_PER_QUAD as f64 / 1e9;
                 let about = if !quads.is_finite() {
@@ -148,6 +162,24 @@ fn within_cap(quads: f64) -> Result<(), QuadError> {
         return Err(QuadError::TooMany { quads });
     }
     Ok(())
+}
+
+/// Checks that `quads` reads back as every writer's reader takes it (each quad split along
+/// its diagonal 0–2, as OBJ and PLY readers fan-triangulate and the glTF writers split):
+/// what we write, `quadlay check` must accept.
+///
+/// # Errors
+/// [`QuadError::Unreadable`] naming the first quad the reader's check names.
+pub fn check_reads_back(quads: &QuadMesh) -> Result<(), QuadError> {
+    let triangles: Vec<[u32; 3]> = quads.quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+    let soup = TriangleSoup { positions: quads.positions.clone(), triangles, ..TriangleSoup::default() };
+    let Err(error) = build_mesh(soup) else { return Ok(()) };
+    let quad = error.face().map(|t| t / 2);
+    let at = quad.and_then(|q| quads.quads.get(q as usize)).map_or([f64::NAN; 3], |q| {
+        let p = q.map(|v| quads.positions.get(v as usize).copied().unwrap_or([f64::NAN; 3]));
+        [0, 1, 2].map(|k| p.iter().map(|c| c[k]).sum::<f64>() / 4.0)
+    });
+    Err(QuadError::Unreadable { quad, at, error })
 }
 
 /// The equations of Section 4: per face, side 0 against side 2 and side 1 against side 3.
@@ -384,4 +416,24 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
         }
     }
     Ok((mesh, Extraction { counts, outside_points: map.outside }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_folded_quad_mesh_is_refused_naming_the_quad() {
+        // Two unit squares side by side read back; fold the second over the first (it
+        // runs along their shared edge the same way) and they do not.
+        let positions = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0]];
+        let good = QuadMesh { positions: positions.clone(), quads: vec![[0, 1, 2, 3], [1, 4, 5, 2]], vertex_node: vec![NONE; 6] };
+        assert_eq!(check_reads_back(&good), Ok(()));
+        let folded = QuadMesh { quads: vec![[0, 1, 2, 3], [1, 2, 5, 4]], ..good };
+        let err = check_reads_back(&folded).unwrap_err();
+        let QuadError::Unreadable { quad, at, .. } = &err else { panic!("{err}") };
+        assert_eq!(*quad, Some(1));
+        assert_eq!(*at, [1.5, 0.5, 0.0]);
+        assert!(err.to_string().starts_with("the quad mesh would not read back: quad 1 (near 1.500000, 0.500000, 0.000000)"), "{err}");
+    }
 }
