@@ -1,16 +1,21 @@
 // Sets up what building and testing quadlay needs, and only what is missing; a second run
-// finds everything and takes seconds. Each step prints what it found or did. Where a step
-// cannot work here it stops with a message saying what to do (see README, "Set-up").
+// finds everything and takes seconds. Each step prints one line: what it found or did. The
+// full output of what it runs (cargo install, npm ci, apt-get) goes to target/setup.log.
+// Where a step cannot work here it stops with a message saying what to do (see README,
+// "Set-up").
 //
 //   node scripts/setup.mjs            Rust + wasm32 target + wasm-bindgen CLI + npm packages
 //   node scripts/setup.mjs --browser  also Chromium for the end-to-end tests
-import { execFileSync, spawnSync } from 'node:child_process';
+import { spawnSync } from 'node:child_process';
 import { existsSync, readFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { runLogged, startLog } from './logged.mjs';
 
 const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const wantBrowser = process.argv.includes('--browser');
+const log = join(root, 'target', 'setup.log');
+let logStarted = false;
 
 function say(step, text) {
   console.log(`setup: ${step.padEnd(13)} ${text}`);
@@ -27,12 +32,13 @@ function output(cmd, args) {
   return r.status === 0 ? r.stdout.trim() : null;
 }
 
-function run(step, cmd, args) {
-  say(step, `running: ${cmd} ${args.join(' ')}`);
+async function run(step, cmd, args) {
+  if (!logStarted) startLog(log, 'quadlay set-up');
+  logStarted = true;
   try {
-    execFileSync(cmd, args, { cwd: root, stdio: 'inherit' });
-  } catch {
-    fail(step, `'${cmd} ${args.join(' ')}' failed (see above)`);
+    await runLogged(`setup: ${step.padEnd(13)} `, cmd, args, { cwd: root, log });
+  } catch (err) {
+    fail(step, err.message);
   }
 }
 
@@ -69,7 +75,7 @@ if (rustup === null && process.env.QUADLAY_BUILD_STD) {
 } else if ((output('rustup', ['target', 'list', '--installed']) || '').split('\n').includes(target)) {
   say('wasm32', `found ${target}`);
 } else {
-  run('wasm32', 'rustup', ['target', 'add', target]);
+  await run('wasm32', 'rustup', ['target', 'add', target]);
 }
 
 // 3. wasm-bindgen CLI at exactly the crate's version (their protocol must match)
@@ -83,7 +89,7 @@ if (have === want) {
 } else {
   say('wasm-bindgen', have ? `found ${have}, need ${want}` : `not found, need ${want} (about 5 minutes, once)`);
   // Without --locked: the CLI's own lock file pins a crate version the registry no longer serves.
-  run('wasm-bindgen', 'cargo', ['install', 'wasm-bindgen-cli', '--version', `=${want}`]);
+  await run('wasm-bindgen', 'cargo', ['install', 'wasm-bindgen-cli', '--version', `=${want}`]);
 }
 
 // 4. npm packages
@@ -94,7 +100,7 @@ if (missing.length === 0) {
   say('npm', `found ${needed.join(', ')}`);
 } else {
   const npm = process.platform === 'win32' ? 'npm.cmd' : 'npm';
-  run('npm', npm, existsSync(join(root, 'package-lock.json')) ? ['ci', '--no-audit', '--no-fund'] : ['install']);
+  await run('npm', npm, existsSync(join(root, 'package-lock.json')) ? ['ci', '--no-audit', '--no-fund'] : ['install']);
 }
 
 // 5. Chromium for the end-to-end tests: Debian's package, never a browser download
@@ -103,8 +109,8 @@ if (wantBrowser) {
   if (existsSync(chromium)) {
     say('chromium', `found ${chromium}`);
   } else if (process.getuid && process.getuid() === 0 && output('apt-get', ['--version'])) {
-    run('chromium', 'apt-get', ['update', '-q']);
-    run('chromium', 'apt-get', ['install', '-y', '-q', 'chromium']);
+    await run('chromium', 'apt-get', ['update', '-q']);
+    await run('chromium', 'apt-get', ['install', '-y', '-q', 'chromium']);
   } else {
     fail('chromium', `${chromium} not found. Install Debian's 'chromium' package ` +
       '(sudo apt-get install chromium), or set CHROMIUM to a Chromium binary.');

@@ -1,6 +1,7 @@
 // Autosave of the layout being drawn, in localStorage, keyed by the mesh (its file name,
 // vertex and triangle counts), so a reload or a crashed worker loses nothing: the next visit
-// with the same mesh offers to restore it.
+// with the same mesh offers to restore it. The last steps of the undo history are saved
+// with it, so after restoring, Ctrl+Z takes back the last edit, not the whole layout.
 
 const PREFIX = 'quadlay.layout:';
 
@@ -9,24 +10,46 @@ export function meshKey(name, summary) {
   return `${PREFIX}${name}:${summary.vertices}:${summary.triangles}`;
 }
 
-/** The saved layout of a mesh: { doc, time (ms since 1970) }, or null. */
+/** How many steps of the undo history are saved with a layout. */
+export const SAVED_STEPS = 30;
+
+/**
+ * The saved layout of a mesh: { doc, time (ms since 1970), steps }, or null. `steps` are the
+ * history's last states ({ doc, label }, the last one `doc`); just [{ doc }] when none were
+ * saved.
+ */
 export function readSaved(key) {
   try {
     const raw = localStorage.getItem(key);
     if (!raw) return null;
     const saved = JSON.parse(raw);
     if (!saved || typeof saved.doc !== 'object' || !Number.isFinite(saved.time)) return null;
-    return saved;
+    const steps = Array.isArray(saved.steps) && saved.steps.every((s) => s && typeof s.doc === 'object')
+      ? saved.steps : [];
+    // The current document closes the list, whatever was stored.
+    if (!steps.length || JSON.stringify(steps.at(-1).doc) !== JSON.stringify(saved.doc)) steps.push({ doc: saved.doc, label: 'restore' });
+    return { doc: saved.doc, time: saved.time, steps };
   } catch {
     return null;
   }
 }
 
-/** Saves `doc` for the mesh; a layout without nodes removes the entry. False if storage failed. */
-export function writeSaved(key, doc) {
+/**
+ * Saves `doc` for the mesh, with the history's last `steps` ({ doc, label }, ending with
+ * `doc`); a layout without nodes removes the entry. False if storage failed.
+ */
+export function writeSaved(key, doc, steps = []) {
   try {
-    if (!doc?.nodes?.length) localStorage.removeItem(key);
-    else localStorage.setItem(key, JSON.stringify({ doc, time: Date.now() }));
+    if (!doc?.nodes?.length) {
+      localStorage.removeItem(key);
+      return true;
+    }
+    try {
+      localStorage.setItem(key, JSON.stringify({ doc, time: Date.now(), steps }));
+    } catch {
+      // Storage full: the layout without its history.
+      localStorage.setItem(key, JSON.stringify({ doc, time: Date.now() }));
+    }
     return true;
   } catch {
     return false; // storage full or disabled: the editor keeps working without

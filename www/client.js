@@ -28,13 +28,15 @@ export class CoreClient {
    * Reads a mesh file in the worker and makes it the current mesh.
    * @param {ArrayBuffer} bytes the file's contents; transferred, unusable afterwards
    * @param {string} name the file's name; its extension picks the format
+   * @param {{repairs?: {keep_largest?: boolean, fill_holes?: number}}} options repairs the
+   *   user asked for (cli.md, "Repairs the user asks for")
    * @returns {Promise<{summary: object, positions: Float32Array, triangles: Uint32Array}>}
    */
-  load(bytes, name, { quiet = false, replaying = false } = {}) {
+  load(bytes, name, { quiet = false, replaying = false, repairs = null } = {}) {
     // A copy stays here, so a restarted worker gets the mesh again (see restart()).
     const copy = replaying ? null : bytes.slice(0);
-    return this.request(MSG.LOAD, { bytes, name }, [bytes]).then((result) => {
-      if (!replaying) this.replay = { mesh: { bytes: copy, name }, layout: null };
+    return this.request(MSG.LOAD, { bytes, name, ...(repairs ? { repairs } : {}) }, [bytes]).then((result) => {
+      if (!replaying) this.replay = { mesh: { bytes: copy, name, repairs }, layout: null };
       if (!quiet) this.emit({ type: 'mesh', name });
       return result;
     });
@@ -137,7 +139,7 @@ export class CoreClient {
     if (!replay) return Promise.resolve();
     // `replay` stays as it is, so a restart during this one sends the same again.
     const mesh = replay.mesh.bytes.slice(0);
-    const options = { quiet: true, replaying: true };
+    const options = { quiet: true, replaying: true, repairs: replay.mesh.repairs };
     // Both sent at once: a request made after restart() then queues behind them in the
     // worker (it handles messages in order), instead of slipping in between.
     const loaded = this.load(mesh, replay.mesh.name, options);

@@ -249,22 +249,8 @@ export class EditorDrawing {
   /** The mesh's boundary edges as segment end points (found once per mesh). */
   boundarySegments() {
     if (this.boundary) return this.boundary;
-    const t = this.ed.mesh.triangles;
-    const n = this.ed.mesh.positions.length / 3;
-    const count = new Map();
-    for (let f = 0; f < t.length; f += 3) {
-      for (let k = 0; k < 3; k++) {
-        const a = t[f + k], b = t[f + ((k + 1) % 3)];
-        const key = a < b ? a * n + b : b * n + a;
-        count.set(key, (count.get(key) ?? 0) + 1);
-      }
-    }
     const out = [];
-    for (const [key, c] of count) {
-      if (c !== 1) continue;
-      const a = Math.floor(key / n), b = key % n;
-      out.push(...this.ed.session.position(a), ...this.ed.session.position(b));
-    }
+    for (const v of this.ed.picker.boundaryEdges()) out.push(...this.ed.session.position(v));
     this.boundary = out;
     return out;
   }
@@ -292,28 +278,48 @@ export class EditorDrawing {
       line.renderOrder = 6;
       this.transient.add(line);
     }
-    if (this.ed.input.drag?.curve) {
-      // The core's curve through the waypoint where it is now.
-      const g = new LineGeometry();
-      g.setPositions(this.ed.input.drag.curve);
-      const line = new Line2(g, this.material('hover', { width: 4 }));
-      line.renderOrder = 6;
-      this.transient.add(line);
-    } else if (this.ed.input.drag?.target) {
-      const { edge, k, insert } = this.ed.input.drag;
-      const e = this.ed.doc.edges[edge];
-      const via = (e.via ?? []).map((w) => this.ed.session.viaPosition(w));
-      const before = k === 0 ? this.ed.session.position(this.ed.nodeVertex[e.nodes[0]]) : via[k - 1];
-      const afterIndex = insert ? k : k + 1;
-      const after = afterIndex < via.length ? via[afterIndex] : this.ed.session.position(this.ed.nodeVertex[e.nodes[1]]);
-      const g = new LineGeometry();
-      g.setPositions([...before, ...this.ed.input.drag.target, ...after]);
-      const line = new Line2(g, this.material('rubber', { dashed: true }));
-      line.computeLineDistances();
-      line.renderOrder = 6;
-      this.transient.add(line);
+    const drag = this.ed.input.drag;
+    if (drag?.curves) {
+      // The core's curves through the dragged waypoint or node where it is now.
+      for (const points of drag.curves) {
+        const g = new LineGeometry();
+        g.setPositions(points);
+        const line = new Line2(g, this.material('hover', { width: 4 }));
+        line.renderOrder = 6;
+        this.transient.add(line);
+      }
+    } else if (drag?.target) {
+      for (const [before, after] of this.dragNeighbours(drag)) {
+        const g = new LineGeometry();
+        g.setPositions([...before, ...drag.target, ...(after ?? [])]);
+        const line = new Line2(g, this.material('rubber', { dashed: true }));
+        line.computeLineDistances();
+        line.renderOrder = 6;
+        this.transient.add(line);
+      }
     }
     this.viewer.requestRender();
+  }
+
+  /**
+   * The stops next to a dragged waypoint or node, for its rubber band: [before, after] for a
+   * waypoint, [neighbour] for each edge of a node.
+   */
+  dragNeighbours(drag) {
+    const S = this.ed.session;
+    const stops = (e) => [S.position(this.ed.nodeVertex[e.nodes[0]]), ...(e.via ?? []).map((w) => S.viaPosition(w)), S.position(this.ed.nodeVertex[e.nodes[1]])];
+    if (drag.node != null) {
+      return this.ed.input.incidentEdges(drag.node).flatMap((i) => {
+        const e = this.ed.doc.edges[i];
+        const s = stops(e);
+        const next = e.nodes[0] === drag.node ? s[1] : s.at(-2);
+        return this.ed.nodeVertex[e.nodes[0]] >= 0 && this.ed.nodeVertex[e.nodes[1]] >= 0 && next ? [[next]] : [];
+      });
+    }
+    const e = this.ed.doc.edges[drag.edge];
+    const s = stops(e);
+    // Stop k is before waypoint k (s[0] is the first node); a moved waypoint is s[k + 1].
+    return [[s[drag.k], s[drag.insert ? drag.k + 1 : drag.k + 2]]];
   }
 
   /**

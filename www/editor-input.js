@@ -1,8 +1,9 @@
 // The layout editor's input: pointer and keys turned into edits of the layout document. A
 // click does what the current tool says (add a node, connect nodes, split an edge at a
 // T-vertex, tag an edge, cycle a face's chart type, delete); a drag in Bend mode moves or adds
-// a waypoint, the core tracing the edge through it as the pointer moves; the hint line says
-// what a click would do.
+// a waypoint, a drag on a node in Node or Bend mode moves the node, the core tracing the
+// curves through the new place as the pointer moves (one undoable edit on release); the
+// hint line says what a click would do.
 import * as L from './layout-doc.js';
 import { dist2, nearestVertex } from './picking.js';
 import { MODES } from './editor-toolbar.js';
@@ -39,16 +40,23 @@ export class EditorInput {
       this.hoverHint = null;
       this.ed.updateUi();
     });
-    this.viewer.controls.addEventListener('change', () => this.ed.drawing.updateLabels());
+    this.viewer.controls.addEventListener('change', () => {
+      this.ed.drawing.updateLabels();
+      this.ed.guide.place();
+    });
     window.addEventListener('keydown', (e) => this.onKey(e));
   }
 
   onDown(event) {
     if (event.target !== this.canvas || event.button !== 0 || !this.ed.mesh) return;
     this.down = { x: event.clientX, y: event.clientY };
-    if (this.ed.mode !== 'bend') return;
+    if (this.ed.mode !== 'bend' && this.ed.mode !== 'node') return;
     const hit = this.ed.picker.pick(event.clientX, event.clientY);
-    if (hit?.kind === 'via') {
+    if (hit?.kind === 'node') {
+      this.drag = { node: hit.index, target: null };
+    } else if (this.ed.mode !== 'bend') {
+      return;
+    } else if (hit?.kind === 'via') {
       this.drag = { edge: hit.index, k: hit.via, insert: false, target: null };
     } else if (hit?.kind === 'edge') {
       this.drag = { edge: hit.index, k: this.viaInsertIndex(hit.index, hit.segment), insert: true, target: null };
@@ -86,6 +94,15 @@ export class EditorInput {
         this.ed.drawing.drawTransient(this.drag.target);
         return;
       }
+      if (p.onCanvas && this.ed.mode === 'view' && !(buttons & 1 && this.down) && this.ed.guide.faces.length) {
+        // Looking only: the face under the pointer in words.
+        const hint = this.ed.guide.describe(this.ed.picker.faceAt(this.ed.picker.pick(p.x, p.y)));
+        if (hint !== this.hoverHint) {
+          this.hoverHint = hint;
+          this.ed.updateUi();
+        }
+        return;
+      }
       if (!p.onCanvas || this.ed.mode === 'view' || (buttons & 1 && this.down)) {
         this.setHover(null);
         this.ed.drawing.drawTransient(null);
@@ -115,27 +132,41 @@ export class EditorInput {
     this.down = null;
     if (this.drag) {
       const drag = this.endDrag(event.pointerId);
-      if (drag.vertex >= 0 && moved > CLICK_SLOP) {
-        this.ed.apply(this.dragDoc(drag), { label: drag.insert ? 'bend edge' : 'move waypoint' });
-      } else if (drag.previewed) {
-        this.ed.apply(this.ed.doc, { record: false, save: false }); // the worker holds a preview
-      }
+      const edit = moved > CLICK_SLOP && drag.vertex >= 0 ? this.dragEdit(drag) : null;
+      if (edit) this.ed.apply(this.dragDoc(drag), { label: edit });
+      else if (drag.previewed) this.ed.apply(this.ed.doc, { record: false, save: false }); // the worker holds a preview
+      // A node pressed and released in place: the click it was.
+      if (drag.node != null && moved <= CLICK_SLOP && event.target === this.canvas) this.click(event.clientX, event.clientY);
       return;
     }
     if (moved > CLICK_SLOP || event.target !== this.canvas) return;
     this.click(event.clientX, event.clientY);
   }
 
-  /** The document with the dragged waypoint where the pointer is. */
+  /** The edit a finished drag makes (its history label), or null when it makes none. */
+  dragEdit(drag) {
+    if (drag.node == null) return drag.insert ? 'bend edge' : 'move waypoint';
+    const there = this.ed.nodeVertex.indexOf(drag.vertex);
+    if (there === drag.node) return null;
+    if (there >= 0) {
+      this.ed.say(`nodes[${there}] is on that vertex already`);
+      return null;
+    }
+    return 'move node';
+  }
+
+  /** The document with the dragged node or waypoint where the pointer is. */
   dragDoc(drag) {
+    if (drag.node != null) return L.moveNode(this.ed.doc, drag.node, drag.vertex);
     return drag.insert
       ? L.insertVia(this.ed.doc, drag.edge, drag.k, drag.vertex)
       : L.moveVia(this.ed.doc, drag.edge, drag.k, drag.vertex);
   }
 
   /**
-   * Has the core trace the dragged edge through the waypoint's current place, one request
-   * at a time (the latest place wins), so the curve follows the pointer.
+   * Has the core trace the dragged edge through the waypoint's current place (or the dragged
+   * node's edges to it), one request at a time (the latest place wins), so the curves follow
+   * the pointer.
    */
   async previewDrag() {
     const drag = this.drag;
@@ -147,21 +178,27 @@ export class EditorInput {
     drag.inFlight = true;
     drag.stale = false;
     drag.previewed = true;
-    let curve = null;
+    let curves = null;
+    const moved = new Set(drag.node != null ? this.incidentEdges(drag.node).map((i) => `edges[${i}]`) : [`edges[${drag.edge}]`]);
     try {
       const view = await this.ed.client.setLayout(JSON.stringify(this.dragDoc(drag)));
-      curve = view.curves.find((c) => c.source === `edges[${drag.edge}]`)?.points ?? null;
+      curves = view.curves.filter((c) => moved.has(c.source)).map((c) => c.points);
     } catch {
       // an invalid place: the dashed lines show it until the next one
     }
     drag.inFlight = false;
     if (this.drag !== drag) return;
-    drag.curve = curve;
+    drag.curves = curves?.length ? curves : null;
     this.ed.drawing.drawTransient(drag.target);
     if (drag.stale) this.previewDrag();
   }
 
-  /** Stops a waypoint drag; returns it. */
+  /** The edges that end at node `n`. */
+  incidentEdges(n) {
+    return (this.ed.doc.edges ?? []).flatMap((e, i) => (e.nodes?.includes(n) ? [i] : []));
+  }
+
+  /** Stops a node or waypoint drag; returns it. */
   endDrag(pointerId) {
     const drag = this.drag;
     this.drag = null;
@@ -288,12 +325,17 @@ export class EditorInput {
   /** What a click on `hit` would do now, for the hint line; null: the tool's own hint. */
   describe(hit) {
     if (!hit) return null;
+    const face = hit.kind === 'surface' && this.ed.mode !== 'chart' ? this.ed.guide.describe(this.ed.picker.faceAt(hit)) : null;
+    return this.describeClick(hit) ?? face;
+  }
+
+  describeClick(hit) {
     const edges = (n) => (this.ed.doc.edges ?? []).filter((e) => e.nodes?.includes(n)).length;
     const what = hit.kind === 'edge' ? `edges[${hit.index}]` : hit.kind === 'node' ? `nodes[${hit.index}]` : null;
     switch (this.ed.mode) {
       case 'node':
         if (hit.kind === 'edge') return `Click: split ${what} at a new node (T-vertex).`;
-        if (hit.kind === 'node') return `${what} is here.`;
+        if (hit.kind === 'node') return `Drag: move ${what} (its edges follow).`;
         return null;
       case 'edge':
         if (hit.kind === 'node') {
@@ -305,6 +347,7 @@ export class EditorInput {
         return null;
       case 'bend':
         if (hit.kind === 'via') return `Drag: move waypoint ${hit.via} of edges[${hit.index}].`;
+        if (hit.kind === 'node') return `Drag: move ${what} (its edges follow).`;
         if (hit.kind === 'edge') return `Drag: bend ${what} through a new waypoint.`;
         return null;
       case 'align':
@@ -315,7 +358,8 @@ export class EditorInput {
         if (f < 0) return null;
         const face = this.ed.view.summary.face_list[f];
         const next = L.CHARTS[(L.CHARTS.indexOf(face.chart) + 1) % 3];
-        return `Face ${f} (corners ${face.corners.join(', ')}): ${face.chart} chart. Click: ${next}.`;
+        const guide = this.ed.guide.describe(f);
+        return `Face ${f} (corners ${face.corners.join(', ')}): ${face.chart} chart. Click: ${next}.${guide ? ` ${guide.replace(/^Face \d+: /, '')}.` : ''}`;
       }
       case 'delete':
         if (hit.kind === 'via') return `Click: delete waypoint ${hit.via} of edges[${hit.index}].`;

@@ -3,10 +3,12 @@
 // click there hits. Drawn curves are projected once per camera position, so pointer moves
 // cost the layout's size, not the mesh's.
 import * as THREE from 'three';
-import { TriangleBVH, dist2, segmentDistance } from './picking.js';
+import { TriangleBVH, boundaryEdges, dist2, nearBoundaryVertex, segmentDistance } from './picking.js';
 
 /** Pick radii in CSS pixels. */
 const PICK = { node: 11, via: 10, edge: 8 };
+/** A click this near the mesh's boundary (CSS pixels) snaps to a boundary vertex. */
+const BOUNDARY_SNAP = 8;
 
 export class EditorPicker {
   /** @param {import('./editor.js').Editor} ed the editor whose layout is picked */
@@ -15,6 +17,19 @@ export class EditorPicker {
     this.viewer = ed.viewer;
     this.canvas = ed.canvas;
     this.bvh = null;
+    this.boundary = null;
+  }
+
+  /** Forgets what belongs to the shown mesh. */
+  resetMesh() {
+    this.bvh = null;
+    this.boundary = null;
+  }
+
+  /** The mesh's boundary edges as vertex pairs (found once per mesh). */
+  boundaryEdges() {
+    if (!this.boundary && this.ed.mesh) this.boundary = boundaryEdges(this.ed.mesh.triangles, this.ed.mesh.positions.length / 3);
+    return this.boundary ?? new Uint32Array(0);
   }
 
   /** The BVH of the shown mesh, built on first use. */
@@ -41,14 +56,21 @@ export class EditorPicker {
     return caster.ray;
   }
 
-  /** The surface under page pixel (x, y): { triangle, point, vertex } or null. */
+  /**
+   * The surface under page pixel (x, y): { triangle, point, vertex } or null. `vertex` is
+   * where a node placed there goes: the hit triangle's nearest corner, or within a few
+   * pixels of the mesh's boundary a boundary vertex (a node meant for the rim must not land
+   * one vertex inside it).
+   */
   surfaceAt(x, y) {
     const bvh = this.ensureBvh();
     if (!bvh) return null;
     const { origin, direction } = this.ray(x, y);
     const hit = bvh.raycast(origin, direction);
     if (!hit) return null;
-    return { ...hit, vertex: bvh.nearestCorner(hit.triangle, hit.point) };
+    const pixel = (2 * hit.t * Math.tan(THREE.MathUtils.degToRad(this.viewer.camera.fov) / 2)) / this.canvas.getBoundingClientRect().height;
+    const rim = nearBoundaryVertex(this.ed.mesh.positions, this.boundaryEdges(), hit.point, BOUNDARY_SNAP * pixel);
+    return { ...hit, vertex: rim >= 0 ? rim : bvh.nearestCorner(hit.triangle, hit.point) };
   }
 
   /** Whether point p is in front of the surface as the camera sees it. */

@@ -6,9 +6,9 @@ import { formatTime } from './autosave.js';
 /** The tools; `key` is the keyboard shortcut. */
 export const MODES = {
   view: { key: 'v', label: 'View', hint: 'Drag to orbit, right-drag to pan, scroll to zoom. Pick a tool to edit the layout.' },
-  node: { key: 'n', label: 'Node', hint: 'Click the surface to add a node (it snaps to the nearest vertex). Click an edge to split it at a new node (T-vertex).' },
+  node: { key: 'n', label: 'Node', hint: 'Click the surface to add a node (it snaps to the nearest vertex, near the rim to the rim). Click an edge to split it at a new node (T-vertex). Drag a node to move it.' },
   edge: { key: 'e', label: 'Edge', hint: 'Click a node, then another to connect them. Clicking the surface (or an edge: a T-vertex) adds a node and connects it. Esc ends the chain.' },
-  bend: { key: 'b', label: 'Bend', hint: 'Drag an edge to bend it through a waypoint; drag a waypoint (cyan) to move it.' },
+  bend: { key: 'b', label: 'Bend', hint: 'Drag an edge to bend it through a waypoint; drag a waypoint (cyan) or a node to move it.' },
   align: { key: 'a', label: 'Align', hint: 'Click an edge to tag it for alignment (thick orange) or untag it (thin blue).' },
   chart: { key: 'c', label: 'Chart', hint: 'Click a face to change its chart type: quad → rect → unit.' },
   delete: { key: 'd', label: 'Delete', hint: 'Click a node, an edge or a waypoint to delete it (Delete key: the one under the pointer).' },
@@ -84,6 +84,8 @@ export class EditorToolbar {
     this.offerBox.hidden = true;
 
     this.viewport.append(bar, status, this.offerBox);
+    this.bar = bar;
+    this.status = status;
     // The old help line says the same as the View tool's hint.
     this.viewport.querySelector('.view-help')?.remove();
   }
@@ -114,7 +116,10 @@ export class EditorToolbar {
     this.hintText.textContent = this.notice ?? this.ed.input.hoverHint ?? hint;
 
     const check = this.checkText;
-    if (!this.ed.mesh) {
+    if (this.ed.placing && !has) {
+      check.dataset.state = 'checking';
+      check.textContent = `Placing ${this.ed.placing}…`;
+    } else if (!this.ed.mesh) {
       check.dataset.state = 'empty';
       check.textContent = '';
     } else if (this.ed.checking) {
@@ -160,12 +165,23 @@ export class EditorToolbar {
       ['t_vertices', 'T-vertices', s?.t_vertices ?? '—'],
       ['charts', 'Charts', s ? `${s.charts[0]} quad · ${s.charts[1]} rect · ${s.charts[2]} unit` : '—'],
     ];
-    dl.replaceChildren(...rows.flatMap(([key, label, value]) => {
+    const guide = this.ed.guide.rows();
+    if (guide.length) rows.push([null, 'Faces: curvature enclosed · length error']);
+    rows.push(...guide);
+    dl.replaceChildren(...rows.flatMap(([key, label, value, cls]) => {
+      if (key === null) {
+        const div = document.createElement('div');
+        div.className = 'group';
+        div.textContent = label;
+        div.title = 'the Gaussian curvature a face encloses cannot lie flat in its chart: about 90° or more needs a node inside (a corner of 3 or 5 faces)';
+        return [div];
+      }
       const dt = document.createElement('dt');
       const dd = document.createElement('dd');
       dt.textContent = label;
       dd.textContent = typeof value === 'number' ? value.toLocaleString('en-US') : String(value);
       dd.dataset.key = key;
+      if (cls) dd.className = cls;
       return [dt, dd];
     }));
     problem.hidden = !this.ed.error || this.ed.checking;

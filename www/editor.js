@@ -6,11 +6,13 @@
 //
 // The parts: the session (layout-session.js: document, history, autosave, the core's
 // check; no DOM), the drawing (editor-draw.js, three.js), picking (editor-pick.js), pointer
-// and keys (editor-input.js) and the controls (editor-toolbar.js). This class holds what they
+// and keys (editor-input.js), the controls (editor-toolbar.js) and the guidance per face
+// (editor-guide.js: curvature, distortion, "add a node here"). This class holds what they
 // share (the tool, the hovered element, the node an edge starts at) and wires them together.
 // After every check the window gets a `quadlay-layout` event, detail { summary, error }
 // (summary null while the layout is invalid), for other parts of the page.
 import { EditorDrawing } from './editor-draw.js';
+import { EditorGuide } from './editor-guide.js';
 import { EditorInput } from './editor-input.js';
 import { EditorPicker } from './editor-pick.js';
 import { EditorToolbar, MODES } from './editor-toolbar.js';
@@ -40,6 +42,8 @@ export class Editor {
     this.pending = null;
     /** The node, edge or waypoint under the pointer: { kind, index, via? }, or null. */
     this.hover = null;
+    /** The layout file about to be placed on the next mesh (main.js says), or null. */
+    this.placing = null;
     /** The mesh's size (sizes of dots and dashes, pick tolerances). */
     this.radius = viewer.radius;
 
@@ -47,8 +51,14 @@ export class Editor {
     this.toolbar = new EditorToolbar(this, viewport);
     this.picker = new EditorPicker(this);
     this.drawing = new EditorDrawing(this, viewport);
+    this.guide = new EditorGuide(this, viewport);
     this.input = new EditorInput(this);
     this.setMode('view');
+    // Meshes are framed beside the tool palette and above the status lines.
+    const view = viewport.getBoundingClientRect();
+    const bar = this.toolbar.bar.getBoundingClientRect();
+    const status = this.toolbar.status.getBoundingClientRect();
+    viewer.setInsets({ left: bar.right - view.left, bottom: view.bottom - status.top });
   }
 
   get mesh() { return this.session.mesh; }
@@ -64,9 +74,10 @@ export class Editor {
   /** Follows the session: a new mesh, an edit, the core's answer, the restore offer. */
   sessionChanged(what, detail) {
     if (what === 'mesh') {
-      this.picker.bvh = null;
+      this.picker.resetMesh();
       this.drawing.resetMesh(detail);
       if (detail.kept) return;
+      this.guide.set(null);
       this.pending = null;
       this.hover = null;
       this.radius = this.viewer.radius;
@@ -81,11 +92,14 @@ export class Editor {
       // Until the core answers: the old curves where edges are unchanged, no stale highlights.
       if (this.pending != null && !(this.pending < (this.doc.nodes?.length ?? 0))) this.pending = null;
       this.hover = null;
+      // The numbers were about the layout before this edit.
+      this.guide.set(null);
       this.draw();
       this.updateUi();
     } else if (what === 'checked') {
       const view = this.view;
       if (view) this.drawing.keepCurves(view);
+      if (view?.faces) this.guide.set(view.faces);
       this.viewer.setSurfaceColors(view ? faceColors(view.vertex_face) : null);
       this.hover = null;
       this.draw();
@@ -103,13 +117,35 @@ export class Editor {
    * A new mesh is shown: the editor starts empty on it, and offers the autosaved layout of
    * the same mesh if there is one.
    */
-  setMesh(mesh, name) {
-    this.session.setMesh(mesh, name);
+  setMesh(mesh, name, options) {
+    this.session.setMesh(mesh, name, options);
+  }
+
+  /**
+   * Says that the layout `name` is about to be placed (null: no longer), so the status line
+   * says so instead of "No layout yet" while the mesh loads and the core places it.
+   */
+  expectLayout(name) {
+    this.placing = name;
+    this.updateUi();
+  }
+
+  /**
+   * The faces' guidance of a run's report (report.faces) for the current layout; null
+   * forgets it. The next edit forgets it too.
+   */
+  setGuidance(faces) {
+    this.guide.set(faces);
+    this.updateUi();
   }
 
   /** Opens a layout file's text as the document (LayoutSession.open). */
-  open(text, name, options) {
-    return this.session.open(text, name, options);
+  async open(text, name, options) {
+    try {
+      return await this.session.open(text, name, options);
+    } finally {
+      if (this.placing) this.expectLayout(null);
+    }
   }
 
   /** Makes `doc` the current document and has the core check it (LayoutSession.apply). */
@@ -193,6 +229,10 @@ export class Editor {
       get canRedo() { return ed.history.canRedo; },
       get offer() { const o = ed.session.offer; return o ? { time: o.time, doc: structuredClone(o.doc) } : null; },
       get layoutName() { return ed.layoutName; },
+      /** Per layout face: { face, curvature_deg, needs_node, length_error?, suggestion? }. */
+      get guidance() { return structuredClone(ed.guide.faces); },
+      /** Turns face f's "add a node here" into a node (an undoable edit). */
+      acceptSuggestion: (f) => ed.guide.accept(f),
       /** Stops the worker as a crash would (for tests): the next edit finds it restarted. */
       stopCore: () => ed.client.terminate('the quadlay core was stopped (test)'),
       /** Restarts the worker as after a crash (the client sends the mesh again; for tests). */

@@ -1,6 +1,7 @@
 // The distortion colour scale: ‖JᵀJ − I‖² of a triangle (paper 3.1) on a log scale, from
 // `lo` (isometric enough: the darkest colour) to `hi` (the brightest). The same stops are
 // used by the shader (param-view.js) and the legend below, so they cannot disagree.
+import { lengthErrorOf, percent } from './verdict.js';
 
 /** Viridis, five stops: dark violet (isometric) → yellow (distorted). */
 export const STOPS = [
@@ -77,7 +78,7 @@ export function renderLegend(el, [lo, hi], distortion) {
   }
   const note = document.createElement('div');
   note.className = 'legend-note';
-  note.textContent = `mean ${distortion.mean.toPrecision(3)} ▲ · max ${distortion.max.toPrecision(3)} △ · `;
+  note.textContent = `mean ${distortion.mean.toPrecision(3)} ▲ (lengths ≈ ${percent(lengthErrorOf(distortion.mean))} off) · max ${distortion.max.toPrecision(3)} △ · `;
   const flipped = document.createElement('span');
   flipped.className = 'legend-flipped';
   flipped.textContent = `${distortion.flipped} flipped`;

@@ -43,6 +43,20 @@ export class History {
     this.index = this.states.length - 1;
   }
 
+  /**
+   * The last `count` states up to the current one ({ doc, label }, the current last), for
+   * saving: what could be redone is left out.
+   */
+  recent(count) {
+    return this.states.slice(Math.max(0, this.index + 1 - count), this.index + 1);
+  }
+
+  /** Continues from saved states (as `recent` gave them; the last is current). */
+  resume(states) {
+    this.states = states.slice(-this.limit);
+    this.index = this.states.length - 1;
+  }
+
   /** Steps back; returns the document then current, or null when there is nothing to undo. */
   undo() {
     if (!this.canUndo) return null;

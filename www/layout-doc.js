@@ -50,6 +50,14 @@ export function addNode(doc, vertex) {
   return [next, next.nodes.length - 1];
 }
 
+/** Moves node `n` to mesh vertex `vertex` (its edges follow; other keys of the entry stay). */
+export function moveNode(doc, n, vertex) {
+  const next = clone(doc);
+  const { point: _, ...rest } = next.nodes[n];
+  next.nodes[n] = { ...rest, vertex };
+  return next;
+}
+
 /** Adds the edge a–b (untagged, no waypoints); returns [doc, its index]. */
 export function addEdge(doc, a, b) {
   const next = clone(doc);

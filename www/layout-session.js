@@ -59,13 +59,17 @@ export class LayoutSession {
    * the same mesh if there is one. After a restarted core the same mesh keeps its document.
    * @param {{positions: Float32Array, triangles: Uint32Array, summary: object}} mesh
    * @param {string} name the mesh file's name
+   * @param {{keep?: boolean}} [options] keep: the same mesh after repairs that keep its
+   *   vertex numbering (cli.md): the document stays and is checked on it again
    */
-  setMesh(mesh, name) {
+  setMesh(mesh, name, { keep = false } = {}) {
     const key = this.store.meshKey(name, mesh.summary);
-    const kept = this.recovering && key === this.storageKey;
+    const kept = (keep && this.mesh !== null) || (this.recovering && key === this.storageKey);
     this.recovering = false;
+    this.storageKey = key;
     this.mesh = { positions: mesh.positions, triangles: mesh.triangles, summary: mesh.summary, name };
     if (kept) {
+      if (keep) this.pointCache.clear(); // repairs may add vertices nearer a node's point
       this.onUpdate('mesh', { kept: true });
       this.apply(this.doc, { record: false, save: false });
       return;
@@ -80,7 +84,6 @@ export class LayoutSession {
     this.nodeVertex = [];
     this.history.clear(this.doc);
     this.layoutName = `${name.replace(/\.[^.]+$/, '')}.layout.json`;
-    this.storageKey = key;
     this.skip = this.seq; // the empty document is not sent to the core
     const saved = this.store.readSaved(key);
     this.offer = saved?.doc?.nodes?.length ? saved : null;
@@ -221,21 +224,32 @@ export class LayoutSession {
     if (!this.storageKey) return;
     // Undoing back to nothing must not erase the layout that is still offered for restoring.
     if (this.offer && !this.doc.nodes?.length) return;
-    this.store.writeSaved(this.storageKey, this.doc);
+    this.store.writeSaved(this.storageKey, this.doc, this.history.recent(this.store.SAVED_STEPS ?? 1));
     // Once the user works on, an unanswered offer still holds the older layout in memory.
   }
 
   /**
-   * Answers the restore offer: restore brings the saved layout back (an undoable step;
-   * resolves once the core has checked it), discard forgets it unless the user drew since.
+   * Answers the restore offer: restore brings the saved layout back with its undo history
+   * (Ctrl+Z then takes back the last edit made before, not the whole layout; resolves once
+   * the core has checked it). If the user drew on this mesh meanwhile, restoring is one
+   * more step instead (undo brings the drawing back). Discard forgets the saved layout
+   * unless the user drew since.
    */
   async answerOffer(restore) {
     const saved = this.offer;
     this.offer = null;
     this.onUpdate('offer');
     if (!saved) return;
-    if (restore) await this.apply(saved.doc, { label: 'restore' });
-    else if (!this.history.canUndo) this.store.removeSaved(this.storageKey);
+    if (!restore) {
+      if (!this.history.canUndo) this.store.removeSaved(this.storageKey);
+      return;
+    }
+    if (this.history.canUndo) {
+      await this.apply(saved.doc, { label: 'restore' });
+      return;
+    }
+    this.history.resume(saved.steps ?? [{ doc: saved.doc, label: 'restore' }]);
+    await this.apply(saved.doc, { record: false });
   }
 
   /** The layout file's text (format v1). */

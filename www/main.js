@@ -6,6 +6,9 @@
 //   error    the last error's message, null after a successful load
 //   load(url | File) → Promise<summary>; rejects with the error (also shown on the page);
 //            null if a newer load overtook it
+//   repair({ keep_largest?: true, fill_holes?: N }) → Promise<summary>: loads the shown mesh
+//            again with these repairs (cli.md; also one click each in the summary when the
+//            mesh has several components or boundary loops); the layout being drawn stays
 //   layout   the shown layout's summary (protocol.js, SET_LAYOUT), null without one
 //   loadLayout(url | File) → Promise<layout summary>; rejects with the layout's error
 //   editor   the layout editor (editor.js), null without WebGL:
@@ -30,13 +33,18 @@
 // `&view=x,y,z` looks from that direction.
 // Shareable links: `?mesh=URL&layout=URL&run=1` loads both and, with `run=1`, solves (and
 // remeshes) at once; `&edge=L` sets the target quad edge length (mesh units; default 1/40 of
-// the bounding-box diagonal), `&chart=quad|rect|unit` the chart type of the faces whose
+// the bounding-box diagonal), `&quads=N` the target quad count instead,
+// `&chart=quad|rect|unit` the chart type of the faces whose
 // patches entry names none, `&iterations=K` the chart-optimization iterations (default 3).
 // The solve card (solve.js) adds to `window.quadlay`: solve, param, result (the report of
-// cli.md once a run finished), runs, run(), cancel(), compareCharts(), setView(), showRun(),
-// showCharts(), exportFile(), setOptions(); see solve.js's header.
+// cli.md, set once per run when it is complete: null until the quad mesh is extracted and
+// measured), paramReport (the partial report of the parameterization alone, `quads: null`,
+// kept apart so a script waiting for `result` never gets it), runs, run(), cancel(),
+// compareCharts(), setView(), showRun(), showCharts(), exportFile(), setOptions(); see
+// solve.js's header.
 import { CoreClient } from './client.js';
 import { initDropZone } from './dropzone.js';
+import { boundaryLoopSizes, surfaceArea } from './mesh-measure.js';
 import { Editor } from './editor.js';
 import * as panel from './panel.js';
 import { Solver } from './solve.js';
@@ -46,7 +54,7 @@ import { Viewer } from './viewer.js';
 const $ = (id) => document.getElementById(id);
 const fmt = new Intl.NumberFormat('en-US');
 
-const quadlay = { state: 'loading', summary: null, name: null, error: null, layout: null, load, loadLayout };
+const quadlay = { state: 'loading', summary: null, name: null, error: null, layout: null, load, loadLayout, repair };
 window.quadlay = quadlay;
 
 const client = new CoreClient();
@@ -66,14 +74,21 @@ const editor = viewer
 /** Where the shown mesh came from (a URL or a File), to load it again after a crash. */
 let shownSource = null;
 quadlay.editor = editor?.api ?? null;
+// A finished run's faces (curvature, distortion, where a node would help) guide the editing.
+if (solver && editor) solver.onResult = (report) => editor.setGuidance(report?.faces ?? null);
 /** Counts loads, so a load overtaken by a newer one does not overwrite it. */
 let latest = 0;
+
+/** The repairs the shown mesh was loaded with ({ keep_largest?, fill_holes? }), or null. */
+let shownRepairs = null;
 
 /**
  * Loads a mesh from a URL (relative to the page) or a File, and shows it.
  * @param {string|URL|File} source
+ * @param {{repairs?: object, keepLayout?: boolean}} [options] repairs for the core to make
+ *   (cli.md); keepLayout: the same mesh again, the layout being drawn stays on it
  */
-async function load(source) {
+async function load(source, { repairs = null, keepLayout = false } = {}) {
   const seq = ++latest;
   const name = nameOf(source);
   quadlay.state = 'loading';
@@ -83,14 +98,17 @@ async function load(source) {
   try {
     const bytes = await readBytes(source);
     if (seq !== latest) return null;
-    const mesh = await client.load(bytes, name);
+    const mesh = await client.load(bytes, name, { repairs });
     if (seq !== latest) return null;
     if (!viewer) throw new Error('this browser cannot show 3D graphics (WebGL 2 is not available)');
     const drawn = viewer.setMesh(mesh);
+    solver.setMeshArea(surfaceArea(mesh.positions, mesh.triangles));
     viewer.setOverlay(null);
-    editor.setMesh(mesh, name);
-    quadlay.layout = null;
-    panel.renderLayoutSummary(null);
+    editor.setMesh(mesh, name, { keep: keepLayout });
+    if (!keepLayout) {
+      quadlay.layout = null;
+      panel.renderLayoutSummary(null);
+    }
     panel.hideError();
     panel.renderSummary(mesh.summary, name);
     panel.markSample(sampleFileOf(source));
@@ -98,6 +116,7 @@ async function load(source) {
     if (seq !== latest) return null;
     Object.assign(quadlay, { summary: mesh.summary, name, error: null, state: 'ready' });
     shownSource = source;
+    shownRepairs = repairs;
     const ms = Math.round(performance.now() - t0);
     panel.setStatus('ready', `Loaded ${name} in ${fmt.format(ms)} ms`);
     return mesh.summary;
@@ -157,6 +176,32 @@ function createViewer() {
   }
 }
 
+/** The shown mesh loaded again with `repairs` added to those it has; the layout stays. */
+function repair(repairs) {
+  if (!shownSource) return Promise.reject(new Error('load a mesh first'));
+  return load(shownSource, { repairs: { ...shownRepairs, ...repairs }, keepLayout: true });
+}
+
+/**
+ * The repairs the summary offers for `mesh` (loaded with `repairs`): keeping the largest
+ * component when there are several; filling holes when there are boundary loops, up to the
+ * size of the second-longest loop (the longest is most likely the mesh's real rim; the
+ * number is on the button, and `repair()` takes any).
+ */
+function repairsOffered(mesh, repairs) {
+  const s = mesh.summary;
+  const offered = {};
+  if (s.components.length > 1 && !repairs?.keep_largest) {
+    offered.keepLargest = () => repair({ keep_largest: true }).catch(() => {});
+  }
+  if (s.boundary_loops > 0) {
+    const sizes = boundaryLoopSizes(mesh.triangles, mesh.positions.length / 3);
+    const edges = sizes.length > 1 ? sizes[1] : sizes[0];
+    if (edges > 0) offered.fillHoles = { edges, run: () => repair({ fill_holes: edges }).catch(() => {}) };
+  }
+  return offered;
+}
+
 /** Loads from a control of the page: the error is already on screen, nothing to rethrow. */
 function loadFromUi(source) {
   load(source).catch(() => {});
@@ -198,9 +243,14 @@ panel.renderSamples(SAMPLES, (sample) => loadWithLayout(`samples/${sample.file}`
 
 /** Loads a mesh, then (if given) a layout on it; errors are shown on the page. */
 function loadWithLayout(mesh, layout) {
+  // Until the layout is placed the editor says it is coming, not "No layout yet".
+  editor?.expectLayout(layout ? nameOf(layout) : null);
   return load(mesh)
     .then((summary) => (summary && layout ? loadLayout(layout) : null))
-    .catch(() => {});
+    .catch(() => {})
+    .finally(() => {
+      if (editor?.placing === (layout ? nameOf(layout) : null)) editor.expectLayout(null);
+    });
 }
 
 const layoutInput = $('layout-input');
@@ -257,6 +307,7 @@ const first = params.has('mesh')
 first.then(() => {
   solver?.setOptions({
     edge: Number(params.get('edge')) || undefined,
+    quads: Number(params.get('quads')) || undefined,
     chart: params.get('chart') ?? undefined,
     iterations: params.get('iterations') ?? undefined,
   });

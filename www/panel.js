@@ -36,14 +36,24 @@ export function markSample(file) {
 }
 
 /**
- * Shows the summary of the mesh on screen (see protocol.js for its fields).
+ * Shows the summary of the mesh on screen (see protocol.js for its fields), folded to one
+ * line unless something in it wants a look (several components, holes, repairs made).
  * @param {object} summary
  * @param {string} name the file's name
+ * @param {{keepLargest?: () => void, fillHoles?: {edges: number, run: () => void}}} [repairs]
+ *   the repairs offered one click each (cli.md, "Repairs the user asks for")
  */
-export function renderSummary(summary, name) {
+export function renderSummary(summary, name, repairs = {}) {
   $('file-name').textContent = name;
   $('file-name').title = name;
   $('summary-empty').hidden = true;
+  const loops = summary.boundary_loops;
+  const parts = [`${num(summary.vertices)} vertices`, `${num(summary.triangles)} triangles`,
+    loops ? `${num(loops)} boundary loop${loops === 1 ? '' : 's'}` : 'closed', `genus ${num(summary.genus)}`];
+  if (summary.components.length > 1) parts.push(`${num(summary.components.length)} components`);
+  $('summary-line').textContent = parts.join(' · ');
+  const made = Object.entries(summary.repairs).some(([, v]) => (typeof v === 'number' ? v > 0 : Boolean(v)));
+  $('summary-details').open = summary.components.length > 1 || loops > 1 || made;
   const rows = [];
   const row = (key, label, value, cls = '') => rows.push([key, label, value, cls]);
   const group = (label) => rows.push([null, label]);
@@ -52,9 +62,15 @@ export function renderSummary(summary, name) {
   row('vertices', 'Vertices', num(summary.vertices));
   row('triangles', 'Triangles', num(summary.triangles));
   row('edges', 'Edges', num(summary.edges));
-  row('boundary_loops', 'Boundary loops', num(summary.boundary_loops));
+  row('boundary_loops', 'Boundary loops', repairs.fillHoles
+    ? [num(loops), button('repair-fill-holes', `Fill holes ≤ ${num(repairs.fillHoles.edges)} edges`,
+      `close every boundary loop of at most ${repairs.fillHoles.edges} edges, smoothly (the longest loop stays open)`, repairs.fillHoles.run)]
+    : num(loops));
   row('genus', 'Genus', num(summary.genus));
-  row('components', 'Components', num(summary.components.length));
+  row('components', 'Components', repairs.keepLargest
+    ? [num(summary.components.length), button('repair-keep-largest', 'Keep largest',
+      'keep only the largest connected component (vertex numbers stay, so layouts keep fitting)', repairs.keepLargest)]
+    : num(summary.components.length));
   if (summary.components.length > 1) {
     summary.components.slice(0, 8).forEach((c, i) => {
       row(null, `#${i + 1}`, `${num(c.faces)} tri · g ${c.genus} · b ${c.boundary_loops}`, 'sub');
@@ -65,14 +81,20 @@ export function renderSummary(summary, name) {
   row('size', 'Size', lo.map((l, i) => short(hi[i] - l)).join(' × '), 'dims');
 
   group('Repairs');
-  const { welded_vertices: welded, removed_zero_area_faces: removed, unreferenced_vertices: unref } =
+  const { welded_vertices: welded, removed_zero_area_faces: removed, unreferenced_vertices: unref, ...asked } =
     summary.repairs;
-  if (welded + removed + unref === 0) {
+  if (!made) {
     row('repairs', 'None needed', '✓', 'ok');
   } else {
     row('welded_vertices', 'Welded vertices', num(welded), welded ? 'warn' : 'none');
     row('removed_zero_area_faces', 'Zero-area faces', num(removed), removed ? 'warn' : 'none');
     row('unreferenced_vertices', 'Unused vertices', num(unref), unref ? 'warn' : 'none');
+    // The repairs the user asked for, as the core names them.
+    for (const [key, value] of Object.entries(asked)) {
+      if (!value) continue;
+      const label = key.replace(/_/g, ' ').replace(/^./, (c) => c.toUpperCase());
+      row(key, label, typeof value === 'number' ? num(value) : value === true ? 'yes' : String(value), 'warn');
+    }
   }
 
   renderRows($('summary'), rows);
@@ -92,7 +114,14 @@ function renderRows(dl, rows) {
     const dt = document.createElement('dt');
     const dd = document.createElement('dd');
     dt.textContent = label;
-    dd.textContent = value;
+    // A value with a button: [text, button].
+    if (Array.isArray(value)) {
+      dd.textContent = value[0];
+      dd.append(value[1]);
+      dd.classList.add('with-action');
+    } else {
+      dd.textContent = value;
+    }
     if (key) dd.dataset.key = key;
     if (cls === 'sub') dt.className = 'sub';
     if (cls) dd.className = cls;
@@ -152,6 +181,17 @@ export function setStatus(state, text) {
 export function setBusy(text) {
   $('busy').hidden = text == null;
   if (text != null) $('busy-text').textContent = text;
+}
+
+function button(id, text, title, onClick) {
+  const b = document.createElement('button');
+  b.type = 'button';
+  b.className = 'tool repair';
+  b.id = id;
+  b.textContent = text;
+  b.title = title;
+  b.addEventListener('click', onClick);
+  return b;
 }
 
 function span(className, text) {

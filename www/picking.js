@@ -167,6 +167,49 @@ export class TriangleBVH {
   }
 }
 
+/**
+ * The mesh's boundary edges (those with one triangle) as vertex pairs, a, b, a, b, ...
+ * @param {Uint32Array} triangles vertex index triples
+ * @param {number} n the number of vertices
+ */
+export function boundaryEdges(triangles, n) {
+  const count = new Map();
+  for (let f = 0; f < triangles.length; f += 3) {
+    for (let k = 0; k < 3; k++) {
+      const a = triangles[f + k], b = triangles[f + ((k + 1) % 3)];
+      const key = a < b ? a * n + b : b * n + a;
+      count.set(key, (count.get(key) ?? 0) + 1);
+    }
+  }
+  const out = [];
+  for (const [key, c] of count) if (c === 1) out.push(Math.floor(key / n), key % n);
+  return Uint32Array.from(out);
+}
+
+/**
+ * The boundary vertex a point near the boundary snaps to: of the boundary edges within
+ * `radius` of `point`, the nearest one's nearer end; -1 when none is that near.
+ * @param {Float32Array} positions xyz interleaved
+ * @param {Uint32Array} edges boundaryEdges' pairs
+ */
+export function nearBoundaryVertex(positions, edges, point, radius) {
+  let best = -1, bestD = radius * radius;
+  for (let i = 0; i < edges.length; i += 2) {
+    const a = 3 * edges[i], b = 3 * edges[i + 1];
+    const ex = positions[b] - positions[a], ey = positions[b + 1] - positions[a + 1], ez = positions[b + 2] - positions[a + 2];
+    const px = point[0] - positions[a], py = point[1] - positions[a + 1], pz = point[2] - positions[a + 2];
+    const len2 = ex * ex + ey * ey + ez * ez;
+    const s = len2 > 0 ? Math.max(0, Math.min(1, (px * ex + py * ey + pz * ez) / len2)) : 0;
+    const dx = px - s * ex, dy = py - s * ey, dz = pz - s * ez;
+    const d = dx * dx + dy * dy + dz * dz;
+    if (d < bestD) {
+      bestD = d;
+      best = s < 0.5 ? edges[i] : edges[i + 1];
+    }
+  }
+  return best;
+}
+
 /** Squared distance from vertex `v` to `point`. */
 export function dist2(positions, v, point) {
   const x = positions[3 * v] - point[0], y = positions[3 * v + 1] - point[1], z = positions[3 * v + 2] - point[2];

@@ -13,10 +13,15 @@
 //              triangles (of the refined mesh), ms (page time from Solve to drawn) }
 //   quads    the shown quad mesh: { vertices, faces, edge_length, ms } or null
 //   result   the report of the last finished run (the CLI's --report JSON, cli.md, made by
-//            the core: quads measured, seconds in the worker)
+//            the core: quads measured, seconds in the worker); null until the run is
+//            complete (quad mesh extracted and measured), set once per run
+//   paramReport  the partial report of the shown parameterization before (or without) its
+//            quad mesh: the same JSON with `quads: null`
+
 //   runs     after compareCharts(): { unit, rect, quad } each { distortion, history, ms }
 //   run(options?) → Promise<report>: solve with the card's options, overridden by
-//            { iterations, chart: 'quad'|'rect'|'unit'|'' , align, edge }; rejects on error
+//            { iterations, chart: 'quad'|'rect'|'unit'|'' , align, edge, quads }; rejects on
+//            error (edge: the target quad edge length; quads: the target quad count instead)
 //   cancel() stops the run in progress
 //   compareCharts(options?) → Promise<runs>
 //   remesh(edge?) → Promise<report>: the quad mesh of the shown run again (new edge length)
@@ -24,12 +29,14 @@
 //   showCharts(bool) → Promise (settles when the chart panel is drawn)
 //   exportFile('param-obj'|'cut-obj'|'quad-obj'|'quad-ply'|'quad-glb') → Promise<{ name, size }>
 //            (also offered as a download)
-//   setOptions({ iterations, chart, align, edge }) fills the card's fields
+//   setOptions({ iterations, chart, align, edge, quads }) fills the card's fields (edge and
+//            quads exclude each other: setting one clears the other)
 import { CoreError } from './client.js';
 import { ChartPanel } from './chart-panel.js';
 import { download, exportName, EXPORTS } from './export.js';
 import { renderLegend, scaleRange } from './heatmap.js';
 import { ParamView } from './param-view.js';
+import { Verdict, lengthErrorOf, percent } from './verdict.js';
 
 const $ = (id) => document.getElementById(id);
 const CHARTS = ['unit', 'rect', 'quad'];
@@ -55,6 +62,7 @@ export class Solver {
     this.panel = panel;
     this.view = new ParamView(viewer);
     this.charts = new ChartPanel();
+    this.verdict = new Verdict({ viewer, container: $('solve-progress') });
     this.legend = document.createElement('div');
     this.legend.className = 'legend';
     this.legend.id = 'legend';
@@ -71,12 +79,17 @@ export class Solver {
     this.autoSolve = false;
     this.autoTimer = 0;
     this.layoutSeconds = 0;
+    /** Called with every finished run's report (main.js hands its faces to the editor). */
+    this.onResult = () => {};
+    /** Surface area of the shown mesh (setMesh), for the edge length of a quad count. */
+    this.area = 0;
 
     Object.assign(quadlay, {
       solve: { state: 'idle' },
       param: null,
       quads: null,
       result: null,
+      paramReport: null,
       runs: null,
       remesh: (edge) => this.remeshShown(edge),
       run: (options) => this.run(options),
@@ -109,10 +122,16 @@ export class Solver {
       $('quads-toggle').setAttribute('aria-pressed', String(on));
       this.view.setShowQuads(on);
     });
-    $('opt-edge').addEventListener('change', () => {
-      this.view.setCell(this.edgeLength());
-      if (this.shown !== null && !this.current) this.remeshShown().catch(() => {});
-    });
+    // The edge length and the quad count say the same thing two ways: one of them is used.
+    $('opt-edge').addEventListener('input', () => { $('opt-quads').value = ''; });
+    $('opt-quads').addEventListener('input', () => { $('opt-edge').value = ''; });
+    for (const id of ['opt-edge', 'opt-quads']) {
+      $(id).addEventListener('change', () => {
+        this.view.setCell(this.edgeLength());
+        this.setPlaceholders();
+        if (this.shown !== null && !this.current) this.remeshShown().catch(() => {});
+      });
+    }
     const exports = $('export-buttons');
     for (const [what, { label, title }] of Object.entries(EXPORTS)) {
       const b = document.createElement('button');
@@ -134,25 +153,55 @@ export class Solver {
       chart: $('opt-chart').value || '',
       align: $('opt-align').checked,
       edge: this.edgeLength(),
+      quads: this.quadCount(),
     };
   }
 
   /** Fills the card's fields; unknown or empty values are left alone. */
-  setOptions({ iterations, chart, align, edge } = {}) {
+  setOptions({ iterations, chart, align, edge, quads } = {}) {
     if (Number.isFinite(Number(iterations)) && iterations !== null && iterations !== '') $('opt-iterations').value = String(iterations);
     if (chart !== undefined && ['', 'quad', 'rect', 'unit'].includes(chart ?? '')) $('opt-chart').value = chart ?? '';
     if (typeof align === 'boolean') $('opt-align').checked = align;
     if (Number(edge) > 0) {
       $('opt-edge').value = String(edge);
-      this.view.setCell(this.edgeLength());
+      $('opt-quads').value = '';
+    } else if (Number(quads) >= 1) {
+      $('opt-quads').value = String(Math.round(Number(quads)));
+      $('opt-edge').value = '';
     }
+    this.view.setCell(this.edgeLength());
+    this.setPlaceholders();
   }
 
-  /** The target edge length: the field's, else 1/40 of the bounding-box diagonal. */
+  /** The target quad count typed in the card, or null. */
+  quadCount() {
+    const n = Math.round(Number($('opt-quads').value));
+    return n >= 1 ? n : null;
+  }
+
+  /**
+   * The target edge length: the field's, else that of the quad count (√(area / quads), as
+   * the core computes it), else 1/40 of the bounding-box diagonal.
+   */
   edgeLength() {
     const typed = Number($('opt-edge').value);
     if (typed > 0) return typed;
+    const quads = this.quadCount();
+    if (quads && this.area > 0) return Math.sqrt(this.area / quads);
     return this.defaultEdge();
+  }
+
+  /** The shown mesh's surface area (main.js measures it when the mesh is loaded). */
+  setMeshArea(area) {
+    this.area = area;
+    this.setPlaceholders();
+  }
+
+  /** The empty fields show what the other one means: the edge length, the quad count. */
+  setPlaceholders() {
+    const edge = this.edgeLength();
+    $('opt-edge').placeholder = this.quadlay.summary ? short(edge) : '';
+    $('opt-quads').placeholder = this.area > 0 ? Math.round(this.area / (edge * edge)).toLocaleString('en-US') : '';
   }
 
   defaultEdge() {
@@ -176,7 +225,7 @@ export class Solver {
       this.layoutReady = true;
       this.view.warmUp();
       $('solve-card').hidden = false;
-      $('opt-edge').placeholder = short(this.defaultEdge());
+      this.setPlaceholders();
       const wasRunning = Boolean(this.current);
       this.stop('the layout changed');
       this.clearResults();
@@ -203,7 +252,8 @@ export class Solver {
     $('solve-results').hidden = true;
     $('compare-runs').hidden = true;
     $('solve-stats').replaceChildren();
-    Object.assign(this.quadlay, { param: null, quads: null, result: null, runs: null });
+    this.verdict.show(null);
+    Object.assign(this.quadlay, { param: null, quads: null, result: null, paramReport: null, runs: null });
     this.hasQuads = false;
     $('quads-toggle').hidden = true;
     this.quadlay.solve = { state: 'idle' };
@@ -284,14 +334,16 @@ export class Solver {
     const progress = (step, label, stats) => {
       const d = stats.distortion;
       Object.assign(this.quadlay.solve, { step, label, iteration: stats.iteration, distortion: d });
-      this.setProgress(step, total, `${label} · mean ${fmtD(d.mean)} · max ${fmtD(d.max)} · ${d.flipped} flipped`, 'running');
+      this.setProgress(step, total, `${label} · lengths ≈ ${percent(lengthErrorOf(d.mean))} off (mean ${fmtD(d.mean)} · max ${fmtD(d.max)} · ${d.flipped} flipped)`, 'running');
     };
     try {
       const report = await job(token, progress);
       if (this.current !== token) throw new Cancelled();
       const ms = performance.now() - t0;
       this.quadlay.solve = { ...this.quadlay.solve, state: 'done', step: total, ms };
-      this.setProgress(total, total, `Done in ${(ms / 1000).toFixed(1)} s`, 'done');
+      // Not a plain "done" when the core warns about the result (the verdict lists why).
+      const warned = this.quadlay.result?.warnings?.length > 0;
+      this.setProgress(total, total, `Done in ${(ms / 1000).toFixed(1)} s`, warned ? 'warn' : 'done');
       this.autoSolve = true;
       this.panel.setStatus('ready', `Solved in ${(ms / 1000).toFixed(1)} s`);
       return report;
@@ -339,14 +391,17 @@ export class Solver {
    */
   async remesh(token = null) {
     const edge = this.edgeLength();
+    const quads = this.quadCount();
     const t0 = performance.now();
     let q;
     try {
       if (token) token.waiting = true;
-      q = await this.client.remesh({ edge_length: edge });
+      // A quad count goes to the core as it is (it knows the surface area exactly).
+      q = await this.client.remesh(quads ? { quads } : { edge_length: edge });
     } catch (err) {
       if (token?.cancelled) throw new Cancelled();
       this.view.setQuads(null);
+      this.verdict.show(null);
       this.hasQuads = false;
       $('quads-toggle').hidden = true;
       this.quadlay.quads = null;
@@ -361,6 +416,8 @@ export class Solver {
     const ms = performance.now() - t0;
     this.quadlay.quads = { vertices: q.vertices, faces: q.faces, edge_length: edge, ms };
     this.quadlay.result = q.report;
+    this.verdict.show(q.report);
+    this.onResult(q.report);
     this.renderStats(this.results.get(this.shown).result, this.results.get(this.shown).ms, q.report);
     this.setButtons();
     await this.viewer.nextFrame();
@@ -438,7 +495,7 @@ export class Solver {
       triangles: result.triangles,
       ms,
     };
-    this.quadlay.result = this.report(result);
+    this.quadlay.paramReport = this.report(result);
     this.panel.hideError();
     await this.viewer.nextFrame();
   }
@@ -446,6 +503,8 @@ export class Solver {
   async showRun(name) {
     if (!this.results.has(name) || this.current) return false;
     const previous = this.shown;
+    // The shown run's report goes until this one's quad mesh is measured.
+    Object.assign(this.quadlay, { result: null, quads: null });
     if (previous !== name) await this.client.useParam(name, previous);
     await this.show(name);
     await this.remeshShown().catch(() => {});
@@ -462,10 +521,13 @@ export class Solver {
       b.type = 'button';
       b.setAttribute('role', 'radio');
       b.dataset.run = chart;
-      b.title = `show the ${chart}-chart result (mean distortion, flipped triangles)`;
+      const d = entry.result.distortion;
+      b.title = `show the ${chart}-chart result: lengths on the surface and in the charts differ by about `
+        + `${percent(lengthErrorOf(d.mean))} (mean ‖JᵀJ − I‖² ${fmtD(d.mean)}); ${d.flipped} triangles are flipped `
+        + '(turned over in their chart, where quads fold)';
       b.append(chart);
       const small = document.createElement('small');
-      small.textContent = `${fmtD(entry.result.distortion.mean)} · ${entry.result.distortion.flipped}✗`;
+      small.textContent = `≈${percent(lengthErrorOf(d.mean))} · ${d.flipped} flipped`;
       b.append(small);
       b.addEventListener('click', () => this.showRun(chart).catch((err) => this.fail(err)));
       box.append(b);
@@ -488,11 +550,14 @@ export class Solver {
 
   renderStats(result, ms, report = null) {
     const d = result.distortion;
+    const measured = report?.parameterization?.length_error;
     const rows = [
       ['Iterations', String(result.history.length - 1)],
-      ['Distortion mean', fmtD(d.mean)],
-      ['Distortion max', fmtD(d.max)],
-      ['Flipped triangles', String(d.flipped)],
+      ['Length error', Number.isFinite(measured) ? `${percent(measured)} typical` : `≈ ${percent(lengthErrorOf(d.mean))} typical`,
+        'how much lengths on the surface and in the charts differ (area-weighted root mean square): what the quads inherit as uneven sizes'],
+      ['Distortion mean', fmtD(d.mean), 'area-weighted mean of ‖JᵀJ − I‖² (the paper\'s measure; about 8 × the squared length error)'],
+      ['Distortion max', fmtD(d.max), 'the largest ‖JᵀJ − I‖² of a triangle'],
+      ['Flipped triangles', String(d.flipped), 'triangles turned over in their chart: the quads there fold'],
       ['Refined triangles', new Intl.NumberFormat('en-US').format(result.triangles)],
       ['Solve time', `${(ms / 1000).toFixed(2)} s`],
     ];
@@ -500,17 +565,22 @@ export class Solver {
       const q = report.quads;
       const fmt = new Intl.NumberFormat('en-US');
       rows.push(['Quads', fmt.format(q.faces)], ['Quad vertices', fmt.format(q.vertices)], ['Irregular vertices', fmt.format(q.irregular_vertices)]);
+      if (Number.isFinite(q.hausdorff)) {
+        rows.push(['Surface distance', `${percent(q.hausdorff, 2)} of the diagonal`,
+          'Hausdorff distance between the quad mesh and the input, both ways, over the bounding-box diagonal']);
+      }
       if (q.flipped_quads !== undefined) rows.push(['Flipped quads', fmt.format(q.flipped_quads)]);
       if (q.angle_deviation_mean_deg !== undefined) rows.push(['Angle deviation', `${q.angle_deviation_mean_deg.toFixed(1)}° mean`]);
       rows.push(['Extraction time', `${report.seconds.mesh.toFixed(2)} s`]);
     }
     const dl = $('solve-stats');
     dl.replaceChildren();
-    for (const [k, v] of rows) {
+    for (const [k, v, title] of rows) {
       const dt = document.createElement('dt');
       const dd = document.createElement('dd');
       dt.textContent = k;
       dd.textContent = v;
+      if (title) dt.title = dd.title = title;
       dd.dataset.key = k.toLowerCase().replace(/ /g, '_');
       dl.append(dt, dd);
     }

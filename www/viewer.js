@@ -63,6 +63,9 @@ export class Viewer {
     this.framePending = false;
     this.frameWaiters = [];
     this.home = null;
+    /** CSS pixels at the view's sides covered by controls drawn over it: meshes are framed
+     * in the rest, its middle where the camera looks. */
+    this.insets = { top: 0, right: 0, bottom: 0, left: 0 };
 
     this.resizeObserver = new ResizeObserver(() => this.resize());
     this.resizeObserver.observe(container);
@@ -147,6 +150,16 @@ export class Viewer {
     return this.home?.radius ?? 1;
   }
 
+  /**
+   * Says how much of the view controls cover at each side ({ top, right, bottom, left } in CSS
+   * pixels): the camera's picture is shifted so the point it looks at is in the middle of the
+   * rest, and meshes are framed to fit in it.
+   */
+  setInsets(insets) {
+    this.insets = { top: 0, right: 0, bottom: 0, left: 0, ...insets };
+    this.resize();
+  }
+
   /** Looks from direction `dir` ([x, y, z] from the mesh's centre) when framing meshes. */
   setViewFrom(dir) {
     this.viewFrom = new THREE.Vector3(...dir).normalize();
@@ -163,6 +176,65 @@ export class Viewer {
   setWireframe(on) {
     this.wireframe = on;
     if (this.wire) this.wire.visible = on;
+    this.requestRender();
+  }
+
+  /**
+   * Flies the camera to look at point `at` ([x, y, z] on the surface) head-on, from the side
+   * its nearest vertex's normal points to, and marks it with a ring drawn over everything.
+   * @returns {Promise<void>} settles when the camera is there
+   */
+  flyTo(at) {
+    if (!this.mesh) return Promise.resolve();
+    const point = new THREE.Vector3(...at);
+    const geometry = this.mesh.geometry;
+    const positions = geometry.getAttribute('position');
+    let nearest = 0, best = Infinity;
+    for (let v = 0; v < positions.count; v++) {
+      const d = point.distanceToSquared(new THREE.Vector3().fromBufferAttribute(positions, v));
+      if (d < best) { best = d; nearest = v; }
+    }
+    const normal = new THREE.Vector3().fromBufferAttribute(geometry.getAttribute('normal'), nearest);
+    if (normal.lengthSq() < 1e-12) normal.copy(this.camera.position).sub(this.controls.target);
+    const distance = this.radius * 1.2;
+    const position = point.clone().addScaledVector(normal.normalize(), distance);
+    this.setMarker(at);
+    const from = { target: this.controls.target.clone(), position: this.camera.position.clone() };
+    const t0 = performance.now();
+    const ms = 500;
+    return new Promise((resolve) => {
+      const step = () => {
+        const s = Math.min(1, (performance.now() - t0) / ms);
+        const e = s * s * (3 - 2 * s);
+        this.controls.target.lerpVectors(from.target, point, e);
+        this.camera.position.lerpVectors(from.position, position, e);
+        this.controls.update();
+        this.requestRender();
+        if (s < 1) requestAnimationFrame(step);
+        else this.nextFrame().then(resolve);
+      };
+      requestAnimationFrame(step);
+    });
+  }
+
+  /** A ring marking point `at` ([x, y, z]), drawn over the surface; null removes it. */
+  setMarker(at) {
+    if (this.marker) {
+      this.scene.remove(this.marker);
+      this.marker.geometry.dispose();
+      this.marker.material.dispose();
+      this.marker = null;
+    }
+    if (at) {
+      const r = this.radius;
+      this.marker = new THREE.Mesh(
+        new THREE.SphereGeometry(r * 0.035, 24, 16),
+        new THREE.MeshBasicMaterial({ color: 0xff9d2e, transparent: true, opacity: 0.55, depthTest: false, depthWrite: false }),
+      );
+      this.marker.position.set(...at);
+      this.marker.renderOrder = 7;
+      this.scene.add(this.marker);
+    }
     this.requestRender();
   }
 
@@ -205,9 +277,11 @@ export class Viewer {
     const target = c.clone()
       .addScaledVector(right, (x0 + x1) / 2)
       .addScaledVector(up, (y0 + y1) / 2);
-    // Distance at which every vertex projects inside the frustum (margin 15 %).
-    const tanV = Math.tan(THREE.MathUtils.degToRad(this.camera.fov) / 2) / 1.15;
-    const tanH = tanV * this.camera.aspect;
+    // Distance at which every vertex projects inside the frustum, less the covered sides
+    // (margin 15 %).
+    const free = this.freeShare();
+    const tanV = (Math.tan(THREE.MathUtils.degToRad(this.camera.fov) / 2) / 1.15) * free.y;
+    const tanH = (tanV / free.y) * this.camera.aspect * free.x;
     let distance = 0;
     for (let i = 0; i < positions.length; i += 3) {
       const dx = positions[i] - target.x, dy = positions[i + 1] - target.y, dz = positions[i + 2] - target.z;
@@ -247,6 +321,14 @@ export class Viewer {
     for (const resolve of waiters) resolve();
   }
 
+  /** The share of the view's width and height the insets leave free. */
+  freeShare() {
+    const { clientWidth: w, clientHeight: h } = this.container;
+    const { top, right, bottom, left } = this.insets;
+    if (!(w > 0 && h > 0)) return { x: 1, y: 1 };
+    return { x: Math.max(0.3, (w - left - right) / w), y: Math.max(0.3, (h - top - bottom) / h) };
+  }
+
   resize() {
     const { clientWidth: w, clientHeight: h } = this.container;
     if (w === 0 || h === 0) return;
@@ -254,6 +336,11 @@ export class Viewer {
     // Thick lines (LineMaterial) need the canvas size in pixels.
     this.resolution.set(w, h);
     this.camera.aspect = w / h;
+    // The picture shifted by half the difference of opposite insets: what the camera looks
+    // at lands in the middle of the uncovered part.
+    const { top, right, bottom, left } = this.insets;
+    if (top || right || bottom || left) this.camera.setViewOffset(w, h, -(left - right) / 2, -(top - bottom) / 2, w, h);
+    else this.camera.clearViewOffset();
     this.camera.updateProjectionMatrix();
     // Drawn at once: the resized canvas is blank until the next render.
     this.render();

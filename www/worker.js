@@ -11,8 +11,9 @@ let ready = null;
 
 /** One function per message type: args → { result, transfer }. */
 const handlers = {
-  [MSG.LOAD]({ bytes, name }) {
-    const next = new Session(new Uint8Array(bytes), name);
+  [MSG.LOAD]({ bytes, name, repairs }) {
+    // repairs: { keep_largest?, fill_holes? } the user asked for (cli.md, "Repairs").
+    const next = repairs ? new Session(new Uint8Array(bytes), name, repairs) : new Session(new Uint8Array(bytes), name);
     session?.free();
     session = next;
     const positions = session.positions();

@@ -10,38 +10,14 @@ import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 import { PNG } from 'pngjs';
-import { outDir, root, startBrowser } from './harness.mjs';
+import { outDir, startBrowser } from './harness.mjs';
+import { mushroom } from './mushroom.mjs';
 
 const TIMEOUT = 20_000;
 const PAGE = '?mesh=samples/mushroom.obj&view=0.2,0.3,-1';
 
 let harness, page, baseUrl, problems;
 
-/** The mushroom's vertices and boundary vertices, read here as the page's core reads them. */
-function mushroom() {
-  const v = [];
-  const f = [];
-  for (const line of readFileSync(join(root, 'www/samples/mushroom.obj'), 'utf8').split('\n')) {
-    const p = line.trim().split(/\s+/);
-    if (p[0] === 'v') v.push(p.slice(1, 4).map(Number));
-    if (p[0] === 'f') f.push(p.slice(1, 4).map((s) => parseInt(s, 10) - 1));
-  }
-  const count = new Map();
-  for (const t of f) {
-    for (let k = 0; k < 3; k++) {
-      const a = t[k], b = t[(k + 1) % 3];
-      const key = `${Math.min(a, b)},${Math.max(a, b)}`;
-      count.set(key, (count.get(key) ?? 0) + 1);
-    }
-  }
-  const boundary = new Set();
-  for (const [key, c] of count) if (c === 1) key.split(',').forEach((s) => boundary.add(Number(s)));
-  const nearest = (x, y, among) => [...among].sort((a, b) =>
-    (v[a][0] - x) ** 2 + (v[a][1] - y) ** 2 - (v[b][0] - x) ** 2 - (v[b][1] - y) ** 2)[0];
-  const corners = [[1, 1], [-1, 1], [-1, -1], [1, -1]].map(([x, y]) => nearest(x, y, boundary));
-  const top = v.reduce((best, p, i) => (p[2] > v[best][2] ? i : best), 0);
-  return { v, corners, top };
-}
 const M = mushroom();
 
 before(async () => {
@@ -90,8 +66,10 @@ async function clickVertex(v) {
 async function pixelOnEdge(i) {
   const p = await editor((ed, i) => {
     const pts = ed.edgePoints(i);
-    for (const at of [0.5, 0.4, 0.6, 0.3, 0.7, 0.2, 0.8]) {
-      const s = ed.screenOf(pts[Math.floor((pts.length - 1) * at)]);
+    // Its points from the middle outwards (the middle may be hidden behind the surface).
+    const order = pts.map((_, k) => k).sort((a, b) => Math.abs(a / (pts.length - 1) - 0.5) - Math.abs(b / (pts.length - 1) - 0.5));
+    for (const k of order.filter((k) => k > 0 && k < pts.length - 1)) {
+      const s = ed.screenOf(pts[k]);
       const hit = s && ed.pick(s.x, s.y);
       if (hit?.kind === 'edge' && hit.index === i) return s;
     }

@@ -110,12 +110,14 @@ test('edits made while the core is busy: only the latest is checked next', async
   assert.equal(s.history.states.length, 5, 'every edit is a step of the history');
 });
 
-test('the autosaved layout is offered on the same mesh, restored as an undoable step', async () => {
+test('the autosaved layout is offered on the same mesh, restored with its undo history', async () => {
   globalThis.localStorage = new MemoryStorage();
   const c = core();
   const first = open(c).s;
-  const doc = fourCorners();
-  await first.apply(doc);
+  const corners = fourCorners();
+  const doc = twoFaces(corners);
+  await first.apply(corners, { label: 'add node' });
+  await first.apply(doc, { label: 'add edge' });
   // A reload: a new session on the same mesh.
   const { s, updates } = open(c);
   assert.deepEqual(s.offer.doc, doc);
@@ -125,8 +127,28 @@ test('the autosaved layout is offered on the same mesh, restored as an undoable 
   assert.equal(s.offer, null);
   assert.ok(updates.includes('offer'));
   assert.deepEqual(s.doc, doc);
+  assert.equal(s.view.summary.faces, 2);
+  // The first undo takes back the last edit before the reload, not the whole layout.
+  assert.equal(s.history.undoLabel, 'add edge');
+  s.undo();
+  await s.settled();
+  assert.deepEqual(s.doc, corners);
   assert.equal(s.view.summary.faces, 1);
-  assert.equal(s.history.undoLabel, 'restore');
+  s.redo();
+  await s.settled();
+  assert.deepEqual(s.doc, doc);
+
+  // Something drawn before restoring: the restore is one step, undo brings the drawing back.
+  const drew = open(c).s;
+  const mine = L.addNode(L.emptyDoc(), TOP)[0];
+  await drew.apply(mine, { label: 'add node' });
+  await drew.answerOffer(true);
+  assert.deepEqual(drew.doc, doc);
+  assert.equal(drew.history.undoLabel, 'restore');
+  drew.undo();
+  await drew.settled();
+  assert.deepEqual(drew.doc, mine);
+  await drew.apply(doc); // the saved layout as before, for what follows
 
   // Discarded with nothing drawn: the saved layout is forgotten.
   const again = open(c).s;

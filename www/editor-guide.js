@@ -1,0 +1,104 @@
+// Guidance for the layout being drawn: per layout face the Gaussian curvature it encloses
+// (the sum of its interior vertices' angle defects: a face holding ±90° of it cannot lie
+// flat in its chart) and, once solved, how far its lengths are off in its chart; for a face
+// that holds too much, a marker "add a node here" on the mesh that one click turns into a
+// node (an ordinary undoable edit). The numbers come from the core: the faces of the
+// layout's check (`view.faces`) when it sends them, else those of the last run's report
+// (`report.faces`, cli.md), both { face, corners, area, curvature_deg, needs_node,
+// length_error?, suggestion?: { vertex, at, reason } }.
+import * as L from './layout-doc.js';
+
+export class EditorGuide {
+  /**
+   * @param {import('./editor.js').Editor} ed the editor whose layout is guided
+   * @param {HTMLElement} viewport where the markers go
+   */
+  constructor(ed, viewport) {
+    this.ed = ed;
+    /** Face guidance of the current layout, by face index; empty when none is known. */
+    this.faces = [];
+    this.markers = document.createElement('div');
+    this.markers.className = 'guide-markers';
+    viewport.append(this.markers);
+  }
+
+  /** The faces' guidance of the current layout (null: none known). */
+  set(faces) {
+    this.faces = Array.isArray(faces) ? faces : [];
+    this.place();
+  }
+
+  /** The faces a node would help, with the place for it. */
+  suggestions() {
+    return this.faces.filter((g) => g.suggestion && Number.isInteger(g.suggestion.vertex));
+  }
+
+  /** One face's numbers in words (for the hint line and the Layout card), or null. */
+  describe(f) {
+    const g = this.faces[f];
+    if (!g) return null;
+    const parts = [`Face ${f}: encloses ${signed(g.curvature_deg)} of curvature`];
+    if (g.needs_node) parts[0] += ' (too much to lie flat: it needs a node inside)';
+    if (Number.isFinite(g.length_error)) parts.push(`lengths off by ${(100 * g.length_error).toFixed(1)} % in its chart`);
+    return parts.join(' · ');
+  }
+
+  /** The Layout card's rows: one per face, the faces that need a node first. */
+  rows() {
+    return [...this.faces]
+      .sort((a, b) => Number(b.needs_node) - Number(a.needs_node) || Math.abs(b.curvature_deg) - Math.abs(a.curvature_deg))
+      .map((g) => [
+        `face-${g.face}`,
+        `${g.needs_node ? '⚠ ' : ''}Face ${g.face}`,
+        `${signed(g.curvature_deg)}${Number.isFinite(g.length_error) ? ` · ${(100 * g.length_error).toFixed(1)} %` : ''}`,
+        g.needs_node ? 'warn' : '',
+      ]);
+  }
+
+  /** Turns face f's suggestion into a node: an ordinary edit, undone like any other. */
+  accept(f) {
+    const s = this.faces[f]?.suggestion;
+    if (!s) return;
+    const there = this.ed.nodeVertex.indexOf(s.vertex);
+    if (there >= 0) {
+      this.ed.say(`nodes[${there}] is on that vertex already`);
+      return;
+    }
+    this.ed.say(`Added a node in face ${f}: connect it to the face's sides with the Edge tool (E)`);
+    this.ed.setMode('edge');
+    const [doc, n] = L.addNode(this.ed.doc, s.vertex);
+    this.ed.pending = n;
+    return this.ed.apply(doc, { label: 'add suggested node' });
+  }
+
+  /**
+   * Places the markers over the view: each at its point's pixel when the point is in front
+   * of the surface, hidden otherwise; called after the camera moves or the layout changes.
+   */
+  place() {
+    const items = this.suggestions().map((g) => {
+      const at = g.suggestion.at;
+      const s = this.ed.picker.screenOf(at);
+      if (!s || !this.ed.picker.visible(at)) return null;
+      const rect = this.markers.parentElement.getBoundingClientRect();
+      const b = document.createElement('button');
+      b.type = 'button';
+      b.className = 'guide-marker';
+      b.dataset.face = String(g.face);
+      b.textContent = '+ add a node here';
+      b.title = `${this.describe(g.face)}. Click: a node here (${g.suggestion.reason === 'distortion' ? 'where its distortion concentrates' : 'where its curvature concentrates'}).`;
+      b.style.left = `${s.x - rect.left}px`;
+      b.style.top = `${s.y - rect.top}px`;
+      b.addEventListener('click', () => this.accept(g.face));
+      return b;
+    }).filter(Boolean);
+    this.markers.replaceChildren(...items);
+  }
+}
+
+/** Degrees with their sign: "+92°", "−45°". */
+function signed(deg) {
+  if (!Number.isFinite(deg)) return '—';
+  const r = Math.round(deg);
+  return `${r > 0 ? '+' : r < 0 ? '−' : ''}${Math.abs(r)}°`;
+}
