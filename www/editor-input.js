@@ -329,6 +329,7 @@ export class EditorInput {
     return this.describeClick(hit) ?? face;
   }
 
+  /** What a click on `hit` would do in the current tool, or null when nothing. */
   describeClick(hit) {
     const edges = (n) => (this.ed.doc.edges ?? []).filter((e) => e.nodes?.includes(n)).length;
     const what = hit.kind === 'edge' ? `edges[${hit.index}]` : hit.kind === 'node' ? `nodes[${hit.index}]` : null;

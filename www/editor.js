@@ -54,11 +54,12 @@ export class Editor {
     this.guide = new EditorGuide(this, viewport);
     this.input = new EditorInput(this);
     this.setMode('view');
-    // Meshes are framed beside the tool palette and above the status lines.
+    // Meshes are framed beside the tool palette and above the status lines (the check line
+    // is empty now: room for it too, about as tall as the hint line and the gaps below).
     const view = viewport.getBoundingClientRect();
     const bar = this.toolbar.bar.getBoundingClientRect();
     const status = this.toolbar.status.getBoundingClientRect();
-    viewer.setInsets({ left: bar.right - view.left, bottom: view.bottom - status.top });
+    viewer.setInsets({ left: bar.right - view.left, bottom: 2 * (view.bottom - status.top) });
   }
 
   get mesh() { return this.session.mesh; }

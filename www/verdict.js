@@ -51,6 +51,7 @@ export class Verdict {
    */
   show(report) {
     this.viewer.setMarker(null);
+    delete this.box.dataset.marked;
     if (!Array.isArray(report?.warnings)) {
       this.box.hidden = true;
       this.box.replaceChildren();
@@ -88,7 +89,10 @@ export class Verdict {
       b.dataset.warning = String(i);
       b.textContent = 'Show';
       b.title = 'fly the camera there and mark the place';
-      b.addEventListener('click', () => this.viewer.flyTo(w.at));
+      b.addEventListener('click', () => {
+        this.box.dataset.marked = String(i);
+        return this.viewer.flyTo(w.at);
+      });
       li.append(b);
     }
     return li;

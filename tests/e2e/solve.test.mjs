@@ -196,7 +196,8 @@ test('the fandisk with its layout solves from the card, with progress to the end
   const shot = await shoot(page, 'solve-checker.png');
   const checker = alternations(shot);
   t.diagnostic(`alternations: checker ${checker.count} over ${checker.drawn} px, plain ${plain.count}`);
-  assert.ok(checker.drawn > 20_000, `the surface covers too little of the view (${checker.drawn})`);
+  // (About 17,000 samples since the mesh is framed beside the tool palette, not under it.)
+  assert.ok(checker.drawn > 14_000, `the surface covers too little of the view (${checker.drawn})`);
   assert.ok(checker.count > 300 && checker.count > 4 * plain.count, `no checkerboard: ${checker.count} alternations vs ${plain.count} (${shot.path})`);
 });
 
