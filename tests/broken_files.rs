@@ -60,6 +60,7 @@ const EXPECTED: &[(&str, &str)] = &[
     ("stl_ascii_inf_coordinate.stl", "STL line 6: coordinate '-inf' is not a finite number"),
     ("stl_binary_nan.stl", "STL: facet 1 has a coordinate that is not a finite number"),
     ("stl_binary_truncated.stl", "declares 2 triangles (184 bytes) but the file has 154 bytes"),
+    ("text_not_obj.obj", "OBJ: not an OBJ file: no line begins with an OBJ statement (v, f, ...); line 1 begins 'x,y,z'"),
 ];
 
 fn broken_dir() -> PathBuf {

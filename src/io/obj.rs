@@ -1,5 +1,7 @@
-//! Wavefront OBJ: `v` and `f` statements; polygons are fan-triangulated, `vt`/`vn` and
-//! everything else is ignored. Negative (relative) indices are supported.
+//! Wavefront OBJ: `v` and `f` statements; polygons are fan-triangulated, `vt`/`vn` and the
+//! other statements are ignored. Negative (relative) indices are supported. A text file whose
+//! lines begin with no OBJ statement at all (a note, a CSV table, an XYZ point list saved as
+//! `.obj`) is said not to be an OBJ file, rather than an OBJ without vertices.
 
 use super::text::{lines, point};
 use super::{Format, ReadError, ReadSoup};
@@ -8,15 +10,32 @@ use crate::quote::quoted;
 
 const F: Format = Format::Obj;
 
+/// The statements of the OBJ specification (geometry, grouping, display and render
+/// attributes, free-form curves and surfaces): a line that begins with one of them is OBJ.
+const STATEMENTS: &[&str] = &[
+    "v", "vt", "vn", "vp", "f", "l", "p", "o", "g", "s", "mg", "usemtl", "mtllib", "usemap", "maplib", "bevel",
+    "c_interp", "d_interp", "lod", "shadow_obj", "trace_obj", "ctech", "stech", "cstype", "deg", "bmat", "step",
+    "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp", "end", "con", "call", "csh",
+];
+
 pub(crate) fn read(bytes: &[u8]) -> Result<ReadSoup, ReadError> {
     let mut soup = TriangleSoup::default();
     let mut origin = Vec::new();
     let mut polygon: Vec<u32> = Vec::new();
+    let mut any_statement = false;
+    // The first line that is neither blank, a comment nor an OBJ statement.
+    let mut first_other: Option<(usize, String)> = None;
     for item in lines(bytes, F) {
         let (line, text) = item?;
         let text = text.split('#').next().unwrap_or("");
         let mut tokens = text.split_ascii_whitespace();
-        match tokens.next() {
+        let keyword = tokens.next();
+        match keyword {
+            Some(k) if STATEMENTS.contains(&k) => any_statement = true,
+            Some(k) if first_other.is_none() => first_other = Some((line, k.chars().take(20).collect())),
+            _ => {}
+        }
+        match keyword {
             Some("v") => soup.positions.push(point(&mut tokens, F, line)?),
             Some("f") => {
                 polygon.clear();
@@ -34,6 +53,10 @@ pub(crate) fn read(bytes: &[u8]) -> Result<ReadSoup, ReadError> {
             }
             _ => {}
         }
+    }
+    if let (false, Some((line, word))) = (any_statement, first_other) {
+        let message = format!("not an OBJ file: no line begins with an OBJ statement (v, f, ...); line {line} begins '{word}'");
+        return Err(ReadError::Invalid { format: F, message });
     }
     Ok(ReadSoup { soup, origin })
 }
@@ -64,6 +87,16 @@ mod tests {
         let r = read(text).unwrap();
         assert_eq!(r.soup.triangles, vec![[0, 1, 2], [0, 2, 3]]);
         assert_eq!(r.origin, vec![7, 7]);
+    }
+
+    #[test]
+    fn text_without_obj_statements_is_not_an_obj_file() {
+        let e = read(b"# notes\n\nshopping list\nmilk, eggs\n").err().unwrap();
+        assert_eq!(e.to_string(), "OBJ: not an OBJ file: no line begins with an OBJ statement (v, f, ...); line 3 begins 'shopping'");
+        // One OBJ statement among unknown ones is an OBJ file (unknown statements are skipped).
+        assert!(read(b"frobnicate 1 2\nv 0 0 0\n").is_ok());
+        // No lines at all: an empty OBJ file (the mesh then has no vertices).
+        assert!(read(b"# nothing\n").is_ok());
     }
 
     #[test]
