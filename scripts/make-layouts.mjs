@@ -676,8 +676,9 @@ const RECIPES = {
   },
 };
 
-function write(name, layout) {
-  const doc = { format: 'quad-layout', version: 1, ...layout };
+/** Writes the layout with the counts of the mesh it was made on (layout-format.md, `mesh`). */
+function write(name, layout, shape) {
+  const doc = { format: 'quad-layout', version: 1, ...layout, mesh: { vertices: shape.n, triangles: shape.T.length / 3 } };
   const text = JSON.stringify(doc, null, 1) + '\n';
   mkdirSync(join(root, 'www/layouts'), { recursive: true });
   writeFileSync(join(root, 'www/layouts', `${name}.layout.json`), text);
@@ -689,7 +690,7 @@ let failed = 0;
 for (const [name, recipe] of Object.entries(RECIPES)) {
   if (wanted.length && !wanted.includes(name)) continue;
   const shape = new Shape(recipe.mesh);
-  const text = write(name, recipe.make(shape));
+  const text = write(name, recipe.make(shape), shape);
   try {
     const view = shape.session.setLayout(text);
     const s = view.summary;

@@ -8,6 +8,7 @@
 pub mod clock;
 pub mod field;
 pub mod geom;
+pub mod guidance;
 pub mod io;
 pub mod layout;
 pub mod mesh;
@@ -17,6 +18,7 @@ pub mod quote;
 pub mod report;
 pub mod solve;
 pub mod summary;
+pub mod verdict;
 
 #[cfg(target_arch = "wasm32")]
 mod wasm;

@@ -7,6 +7,7 @@ use quadlay::layout::{build_layout, parse_layout, ChartType, Layout, SurfaceLayo
 use quadlay::param::{input_uv::input_corner_uv, ParamError, ParamOptions, ParamSession};
 use quadlay::quad::{check_edge_length, default_edge_length, QuadError, QuadOptions};
 use quadlay::quote::{printable, quoted};
+use quadlay::quad::density::edge_length_for_quads;
 use quadlay::report::{extract_and_report, Seconds};
 use quadlay::summary::{LayoutSummary, MeshSummary};
 use std::path::Path;
@@ -17,7 +18,9 @@ mod outputs;
 const USAGE: &str = "usage:
   quadlay remesh MESH --layout LAYOUT [options]
                               parameterize MESH with the layout and extract a pure quad mesh
-      --edge-length L         target quad edge length (default 1/40 of the bounding-box diagonal)
+      --edge-length L         target quad edge length: about surface area / L² quads
+                              (default 1/40 of the bounding-box diagonal)
+      --quads N               about N quads (L = √(surface area / N)); not with --edge-length
       --iterations K          chart-optimization iterations (default 3)
       --chart quad|rect|unit  chart of faces without a `patches` entry (default: the layout's)
       --no-align              ignore the layout's alignment tags
@@ -124,6 +127,7 @@ struct RemeshArgs {
     mesh: Option<String>,
     layout: Option<String>,
     edge_length: Option<f64>,
+    quads: Option<f64>,
     iterations: Option<usize>,
     chart: Option<ChartType>,
     no_align: bool,
@@ -168,6 +172,14 @@ fn parse_remesh(args: &[String]) -> Result<RemeshArgs, Failure> {
                 }
                 r.edge_length = Some(l);
             }
+            "--quads" => {
+                let v = value("--quads")?;
+                let n: u64 = v.parse().map_err(|_| bad_input(format!("--quads: '{v}' is not a whole number")))?;
+                if n == 0 {
+                    return Err(bad_input("--quads must be at least 1".into()));
+                }
+                r.quads = Some(n as f64);
+            }
             "--iterations" => {
                 let v = value("--iterations")?;
                 let k: usize = v.parse().map_err(|_| bad_input(format!("--iterations: {} is not a whole number", quoted(&v))))?;
@@ -204,6 +216,9 @@ fn parse_remesh(args: &[String]) -> Result<RemeshArgs, Failure> {
             _ => r.mesh = Some(a.clone()),
         }
     }
+    if r.edge_length.is_some() && r.quads.is_some() {
+        return Err(bad_input("give --edge-length or --quads, not both".into()));
+    }
     Ok(r)
 }
 
@@ -226,7 +241,11 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     let mesh = &loaded.mesh;
     let t_load = now();
     let layout = place_layout(mesh, layout_path, read_layout(layout_path)?)?;
-    let edge_length = a.edge_length.unwrap_or_else(|| default_edge_length(mesh));
+    let edge_length = match (a.edge_length, a.quads) {
+        (Some(l), _) => l,
+        (None, Some(n)) => edge_length_for_quads(mesh, n),
+        (None, None) => default_edge_length(mesh),
+    };
     // Refused before the parameterization, which would take its time for nothing.
     check_edge_length(&layout, edge_length).map_err(|e| bad_input(format!("{layout_path}: {e}")))?;
     let t_layout = now();
@@ -292,12 +311,27 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     if a.report.as_deref() != Some("-") {
         let q = &report.quads;
         let p = &report.parameterization;
-        say(&format!(
-            "{} quads, {} vertices ({} irregular); distortion {:.4} (max {:.3}, {} flipped triangles); \
-             Hausdorff {:.3}% of the diagonal; {:.2} s\n",
-            q.faces, q.vertices, q.irregular_vertices, p.distortion_mean, p.distortion_max, p.flipped_triangles,
-            100.0 * q.hausdorff, report.seconds.total
-        ))?;
+        let mut text = format!(
+            "{} quads, {} vertices ({} irregular); distortion {:.4} (max {:.3}, {} flipped triangles; lengths off by \
+             {:.1}% typically); Hausdorff {:.3}% of the diagonal; {:.2} s\n",
+            q.faces,
+            q.vertices,
+            q.irregular_vertices,
+            p.distortion_mean,
+            p.distortion_max,
+            p.flipped_triangles,
+            100.0 * p.length_error,
+            100.0 * q.hausdorff,
+            report.seconds.total
+        );
+        for w in &report.warnings {
+            text += &format!("warning: {}: {}", w.kind, w.message);
+            if let Some([x, y, z]) = w.at {
+                text += &format!(" (at {x:.6} {y:.6} {z:.6})");
+            }
+            text += "\n";
+        }
+        say(&text)?;
     }
     Ok(())
 }

@@ -9,6 +9,9 @@ use crate::layout::{build_layout, curve, parse_layout, SurfaceLayout};
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
 use crate::param::{ParamOptions, ParamSession};
+use crate::guidance::{face_distortion, face_guidance, solved_face_guidance, FaceGuidance};
+use crate::quad::density::{edge_length_for_quads, face_areas};
+use crate::verdict::distorted_faces;
 use crate::quad::{default_edge_length, QuadMesh, QuadOptions};
 use crate::quote::{quoted, quoted_in};
 use crate::report::{extract_and_report, Report, Seconds};
@@ -46,6 +49,9 @@ struct RemeshOptions {
     /// Target quad edge length in the mesh's units; default 1/40 of the bounding-box
     /// diagonal.
     edge_length: Option<f64>,
+    /// Target number of quads instead of `edge_length` (L = √(surface area / quads)); giving
+    /// both is an error.
+    quads: Option<f64>,
 }
 
 /// An options object from JS. Its keys are checked first: serde-wasm-bindgen reads only the
@@ -87,6 +93,9 @@ struct LayoutView {
     curves: Vec<CurveView>,
     /// Face of every mesh vertex (-1 for nodes).
     vertex_face: Vec<i32>,
+    /// Per face: area, the Gaussian curvature it encloses and, where it holds too much, a
+    /// suggested vertex for a new node (the report's `faces`, before solving).
+    faces: Vec<FaceGuidance>,
 }
 
 fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
@@ -146,6 +155,7 @@ impl Session {
             summary: LayoutSummary::of(&surface),
             curves,
             vertex_face: surface.vertex_face.iter().map(|&f| if f == u32::MAX { -1 } else { f as i32 }).collect(),
+            faces: face_guidance(mesh, &surface),
         };
         self.layout = Some(surface);
         to_js(&view)
@@ -229,6 +239,21 @@ impl Session {
         Ok(self.param_ref()?.triangle_distortion().into_iter().map(|d| d as f32).collect())
     }
 
+    /// Per layout face of the active run, with its latest solution: area, enclosed
+    /// curvature, distortion, typical length error and a suggested vertex for a new node
+    /// where one would help (the report's `faces`; see `guidance.rs`). Faces far more
+    /// distorted than the others are judged at the default edge length.
+    #[wasm_bindgen(js_name = faceGuidance)]
+    pub fn face_guidance(&self) -> Result<JsValue, JsError> {
+        let run = self.param.as_ref().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        let mesh = &self.loaded.mesh;
+        let faces = run.layout.faces.len();
+        let measured = face_distortion(&run.param, faces);
+        let areas = face_areas(run.param.cut(), faces);
+        let distorted = distorted_faces(&areas, &measured, default_edge_length(mesh));
+        to_js(&solved_face_guidance(mesh, &run.layout, &measured, &distorted))
+    }
+
     /// Every face's chart: `[{ kind: "quad" | "rect" | "unit", corners: [[u, v] × 4] }]`.
     #[wasm_bindgen(js_name = paramCharts)]
     pub fn param_charts(&self) -> Result<JsValue, JsError> {
@@ -278,7 +303,8 @@ impl Session {
     }
 
     /// Extracts the quad mesh of the active run (paper Section 4) with
-    /// `{ edge_length?: number }` (default 1/40 of the bounding-box diagonal) and measures
+    /// `{ edge_length?: number, quads?: number }` (one of them; default an edge length of 1/40
+    /// of the bounding-box diagonal, about surface area / edge_length² quads) and measures
     /// it. Returns the report of the command line's `--report` (cli.md); the mesh itself is
     /// read with [`quad_positions`](Self::quad_positions) and
     /// [`quad_indices`](Self::quad_indices). Uses the final solve if it ran, else the latest
@@ -287,13 +313,19 @@ impl Session {
         let opts: RemeshOptions = if options.is_undefined() || options.is_null() {
             RemeshOptions::default()
         } else {
-            self::options(options, "remesh options", &["edge_length"])?
+            self::options(options, "remesh options", &["edge_length", "quads"])?
         };
         let mesh = &self.loaded.mesh;
         let (load, layout_seconds) = (self.load_seconds, self.layout_seconds);
         let run = self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))?;
         run.quads = None;
-        let edge = opts.edge_length.unwrap_or_else(|| default_edge_length(mesh));
+        let edge = match (opts.edge_length, opts.quads) {
+            (Some(_), Some(_)) => return Err(JsError::new("remesh options: give edge_length or quads, not both")),
+            (Some(l), None) => l,
+            (None, Some(n)) if n >= 1.0 && n.is_finite() => edge_length_for_quads(mesh, n),
+            (None, Some(n)) => return Err(JsError::new(&format!("remesh options: quads must be at least 1, not {n}"))),
+            (None, None) => default_edge_length(mesh),
+        };
         let quad_options = QuadOptions::with_edge_length(edge);
         let earlier = Seconds { load, layout: layout_seconds, parameterize: run.seconds, ..Seconds::default() };
         let (quads, report) = extract_and_report(mesh, &run.layout, &run.param, &quad_options, earlier)

@@ -49,7 +49,8 @@ fn remesh_writes_quads_param_uvs_and_the_report() {
     for path in [
         "/input/vertices", "/input/triangles", "/layout/nodes", "/layout/edges", "/layout/faces", "/layout/t_vertices",
         "/parameterization/distortion_mean", "/parameterization/distortion_max", "/parameterization/flipped_triangles",
-        "/quads/vertices", "/quads/faces", "/quads/irregular_vertices", "/seconds/load", "/seconds/layout",
+        "/quads/vertices", "/quads/faces", "/quads/irregular_vertices", "/quads/hausdorff",
+        "/parameterization/length_error", "/seconds/load", "/seconds/layout",
         "/seconds/parameterize", "/seconds/mesh", "/seconds/total",
     ] {
         assert!(report.pointer(path).is_some_and(|v| v.is_number()), "report misses {path}: {report}");
@@ -116,6 +117,9 @@ fn bad_input_gives_exit_2_and_one_error_line_and_no_output() {
         (vec!["remesh", &m, "--layout", &l, "--edge-length", "NaN", "-o", out], "--edge-length"),
         (vec!["remesh", &m, "--layout", &l, "--edge-length", "abc", "-o", out], "not a number"),
         (vec!["remesh", &m, "--layout", &l, "--edge-length", "1e-7", "-o", out], "quads"),
+        (vec!["remesh", &m, "--layout", &l, "--quads", "0", "-o", out], "--quads"),
+        (vec!["remesh", &m, "--layout", &l, "--quads", "1.5", "-o", out], "--quads: '1.5' is not a whole number"),
+        (vec!["remesh", &m, "--layout", &l, "--quads", "100", "--edge-length", "0.1", "-o", out], "not both"),
         (vec!["remesh", &m, "--layout", &l, "--chart", "hexagon", "-o", out], "--chart"),
         (vec!["remesh", &m, "--layout", &l, "--iterations", "-1", "-o", out], "--iterations"),
         (vec!["remesh", &m, "--layout", &l, "-o", "q.xyz"], "q.xyz"),
@@ -132,6 +136,85 @@ fn bad_input_gives_exit_2_and_one_error_line_and_no_output() {
         assert!(lines[0].starts_with("error: ") && lines[0].contains(names), "{args:?}: {stderr}");
     }
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "only the broken layout is there");
+}
+
+/// `--quads N` asks for a count (cli.md): the mushroom's 2×2 grid gets it within 10 %.
+#[test]
+fn quads_option_asks_for_a_number_of_quads() {
+    let (m, l) = (mushroom(), layout("mushroom-grid"));
+    for asked in [400u64, 2500] {
+        let n = asked.to_string();
+        let (code, stdout, stderr) = run_cli(&["remesh", &m, "--layout", &l, "--quads", &n, "--report", "-"]);
+        assert_eq!(code, 0, "{stderr}");
+        let report: Value = serde_json::from_str(&stdout).unwrap();
+        let got = report["quads"]["faces"].as_u64().unwrap();
+        println!("mushroom-grid --quads {asked}: {got} quads");
+        assert!((got as f64 / asked as f64 - 1.0).abs() < 0.1, "asked {asked}, got {got}");
+    }
+}
+
+/// The verdict (cli.md, "Report"): a clean result has no warnings; the bunny in a cube at the
+/// default density misses the surface (its ears and head bulge far out of the cube's faces,
+/// 21 % of the diagonal) and says where, on the bunny's surface.
+#[test]
+fn warnings_say_what_to_look_at_and_a_clean_result_has_none() {
+    let run = |mesh: &str, layout_name: &str| -> Value {
+        let (code, stdout, stderr) = run_cli(&["remesh", mesh, "--layout", &layout(layout_name), "--report", "-"]);
+        assert_eq!(code, 0, "{stderr}");
+        serde_json::from_str(&stdout).unwrap()
+    };
+    let clean = run(&mushroom(), "mushroom-grid");
+    assert_eq!(clean["warnings"], serde_json::json!([]), "{}", clean["warnings"]);
+    let faces = clean["faces"].as_array().unwrap();
+    assert_eq!(faces.len(), 4);
+    for f in faces {
+        for key in ["area", "curvature_deg", "distortion", "length_error"] {
+            assert!(f[key].is_number(), "faces[].{key}: {f}");
+        }
+        assert_eq!(f["needs_node"], false, "{f}");
+    }
+
+    let bunny = shared_mesh("bunny_28k.obj").to_string_lossy().into_owned();
+    let bad = run(&bunny, "bunny-cube");
+    let warnings = bad["warnings"].as_array().unwrap();
+    println!("bunny-cube: {}", serde_json::to_string_pretty(warnings).unwrap());
+    let missed = warnings.iter().find(|w| w["kind"] == "surface_missed").expect("surface_missed");
+    assert!(missed["message"].as_str().unwrap().contains("miss the surface"));
+    let at: Vec<f64> = missed["at"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    let mesh = quadlay::io::read_mesh(&std::fs::read(&bunny).unwrap(), "bunny_28k.obj").unwrap().mesh;
+    let nearest = mesh
+        .positions()
+        .iter()
+        .map(|p| ((p[0] - at[0]).powi(2) + (p[1] - at[1]).powi(2) + (p[2] - at[2]).powi(2)).sqrt())
+        .fold(f64::INFINITY, f64::min);
+    assert!(nearest < 0.01, "the point is on the bunny: {nearest} from its nearest vertex");
+    assert!(bad["quads"]["hausdorff"].as_f64().unwrap() > 0.1);
+    // The cube's faces each hold far more than the 45° that asks for a node (the bunny's
+    // 720° spread over six faces), and most get a suggestion on the mesh.
+    let suggested = bad["faces"].as_array().unwrap().iter().filter(|f| f["suggestion"]["vertex"].is_u64()).count();
+    assert!(suggested >= 3, "{}", bad["faces"]);
+}
+
+/// A layout made for another mesh (layout-format.md, `mesh`) is refused when it names
+/// vertices by index, naming `mesh` and both counts; with points only it is placed.
+#[test]
+fn a_layout_for_another_mesh_is_refused() {
+    let dir = scratch("other-mesh");
+    let by_index = dir.join("by-index.layout.json");
+    let text = r#"{"format":"quad-layout","version":1,"nodes":[{"vertex":0},{"vertex":1},{"vertex":2},{"vertex":3}],
+                   "edges":[],"mesh":{"vertices":2337,"triangles":4608}}"#;
+    std::fs::write(&by_index, text).unwrap();
+    let nefertiti = shared_mesh("nefertiti.obj").to_string_lossy().into_owned();
+    let (code, stdout, stderr) = run_cli(&["check", &nefertiti, "--layout", by_index.to_str().unwrap()]);
+    assert_eq!((code, stdout.as_str()), (2, ""), "{stderr}");
+    assert!(stderr.starts_with("error: ") && stderr.lines().count() == 1, "{stderr}");
+    for part in ["by-index.layout.json: mesh: ", "2337 vertices and 4608 triangles", "299 vertices and 562 triangles"] {
+        assert!(stderr.contains(part), "{part}: {stderr}");
+    }
+    // The sample layouts give points: their `mesh` says where they were drawn, nothing more
+    // (on nefertiti the mushroom's layout fails for its own reasons, not for `mesh`).
+    let (_, _, stderr) = run_cli(&["check", &nefertiti, "--layout", &layout("mushroom-grid")]);
+    assert!(!stderr.contains("mesh: "), "{stderr}");
 }
 
 #[test]

@@ -27,9 +27,14 @@ export function parseDoc(text) {
   return doc;
 }
 
-/** The layout file's text: format v1, one node, edge or patch per line. */
-export function toText(doc) {
-  const { format = 'quad-layout', version = 1, nodes = [], edges = [], ...rest } = doc;
+/**
+ * The layout file's text: format v1, one node, edge or patch per line. `mesh` (`{ vertices,
+ * triangles }` of the mesh it is drawn on) is written as the file's `mesh` entry unless the
+ * document has one already (a layout loaded for another mesh keeps saying so).
+ */
+export function toText(doc, mesh = null) {
+  const counts = mesh ? { mesh: { vertices: mesh.vertices, triangles: mesh.triangles } } : {};
+  const { format = 'quad-layout', version = 1, nodes = [], edges = [], ...rest } = { ...counts, ...doc };
   const list = (items) => (items.length ? `[\n${items.map((x) => `  ${JSON.stringify(x)}`).join(',\n')}\n ]` : '[]');
   const lines = [
     ` "format": ${JSON.stringify(format)}`,

@@ -254,7 +254,7 @@ export class LayoutSession {
 
   /** The layout file's text (format v1). */
   text() {
-    return L.toText(this.doc);
+    return L.toText(this.doc, this.mesh?.summary);
   }
 
   resolveNodes() {

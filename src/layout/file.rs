@@ -77,6 +77,26 @@ pub struct PatchSpec {
 /// this bounds the time a layout takes to place to seconds; the sample layouts have up to
 /// 574, a hand-drawn one rarely more than a few per edge.
 pub const MAX_WAYPOINTS: usize = 4096;
+/// The size of a mesh, as a layout's `mesh` entry records it: the identity of the mesh the
+/// layout was drawn on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct MeshCounts {
+    pub vertices: usize,
+    pub triangles: usize,
+}
+
+impl MeshCounts {
+    /// The counts of `mesh` (every vertex of the numbering, used or not).
+    pub fn of(mesh: &Mesh) -> MeshCounts {
+        MeshCounts { vertices: mesh.n_vertices(), triangles: mesh.n_faces() }
+    }
+}
+
+impl fmt::Display for MeshCounts {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} vertices and {} triangles", self.vertices, self.triangles)
+    }
+}
 
 /// A layout as the file states it (nodes not yet snapped to the mesh).
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -85,6 +105,34 @@ pub struct Layout {
     pub edges: Vec<EdgeSpec>,
     pub patches: Vec<PatchSpec>,
     pub default_chart: ChartType,
+    /// The counts of the mesh the layout was drawn on, if the file says.
+    pub mesh: Option<MeshCounts>,
+}
+
+impl Layout {
+    /// Whether any node or waypoint is given by a vertex index (which means something only
+    /// on the mesh the layout was drawn on).
+    pub fn uses_vertex_indices(&self) -> bool {
+        let vertex = |l: &Location| matches!(l, Location::Vertex(_));
+        self.nodes.iter().any(vertex) || self.edges.iter().flat_map(|e| &e.via).any(vertex)
+    }
+
+    /// Checks the `mesh` entry against the mesh at hand (layout-format.md, "mesh"): when the
+    /// layout names vertices by index, its mesh must have the counts of one of `accepted`
+    /// (the mesh, and the file it was read from before the repairs the user asked for,
+    /// which keep the vertex numbering).
+    ///
+    /// # Errors
+    /// [`Problem::OtherMesh`] on the entry `mesh`, with both counts.
+    pub fn check_mesh(&self, accepted: &[MeshCounts]) -> Result<(), LayoutFileError> {
+        match self.mesh {
+            Some(made_for) if self.uses_vertex_indices() && !accepted.contains(&made_for) => {
+                let mesh = accepted.first().copied().unwrap_or(MeshCounts { vertices: 0, triangles: 0 });
+                Err(err("mesh", Problem::OtherMesh { layout: made_for, mesh }))
+            }
+            _ => Ok(()),
+        }
+    }
 }
 
 /// What is wrong with an entry of a layout file.
@@ -107,6 +155,8 @@ pub enum Problem {
     RepeatedCorner(u32),
     /// The layout's waypoints, counted up to this entry, are more than [`MAX_WAYPOINTS`].
     TooManyWaypoints,
+    /// The layout names vertices by index and was drawn on a mesh of other counts.
+    OtherMesh { layout: MeshCounts, mesh: MeshCounts },
 }
 
 /// A layout error: the entry it is about (`nodes[2]`, `edges[3].via[0]`, or empty for the
@@ -149,6 +199,10 @@ impl fmt::Display for LayoutFileError {
                 f,
                 "the layout has more than {MAX_WAYPOINTS} waypoints up to here; a curve needs a waypoint only where \
                  it must not take the shortest way, so remove some"
+            ),
+            Problem::OtherMesh { layout, mesh } => write!(
+                f,
+                "the layout was made for another mesh: it was drawn on a mesh of {layout}, this mesh has {mesh}"
             ),
         }
     }
@@ -228,7 +282,8 @@ fn location(v: &Value, entry: &str) -> Result<Location, LayoutFileError> {
 /// [`LayoutFileError`] naming the entry.
 pub fn parse_layout(text: &str) -> Result<Layout, LayoutFileError> {
     let doc: Value = serde_json::from_str(text).map_err(|e| err("", Problem::Json(e.to_string())))?;
-    let root = object(&doc, "", &["format", "version", "nodes", "edges", "patches", "defaults"], "a JSON object")?;
+    let root =
+        object(&doc, "", &["format", "version", "nodes", "edges", "patches", "defaults", "mesh"], "a JSON object")?;
     match root.get("format") {
         Some(Value::String(s)) if s == "quad-layout" => {}
         Some(Value::String(s)) => return Err(err("format", Problem::WrongFormat(s.clone()))),
@@ -321,7 +376,20 @@ pub fn parse_layout(text: &str) -> Result<Layout, LayoutFileError> {
             default_chart = chart(c, "defaults.chart")?;
         }
     }
-    Ok(Layout { nodes, edges, patches, default_chart })
+    let mesh = match root.get("mesh") {
+        None => None,
+        Some(m) => {
+            const WHAT: &str = "{\"vertices\": n, \"triangles\": m}";
+            let obj = object(m, "mesh", &["vertices", "triangles"], WHAT)?;
+            let count = |key: &'static str| -> Result<usize, LayoutFileError> {
+                let v = obj.get(key).ok_or_else(|| err("mesh", Problem::Missing(key)))?;
+                let n = index(v, &format!("mesh.{key}"))?;
+                usize::try_from(n).map_err(|_| err(format!("mesh.{key}"), Problem::Expected("a smaller count")))
+            };
+            Some(MeshCounts { vertices: count("vertices")?, triangles: count("triangles")? })
+        }
+    };
+    Ok(Layout { nodes, edges, patches, default_chart, mesh })
 }
 
 fn location_json(l: &Location) -> Value {
@@ -370,6 +438,9 @@ pub fn write_layout(layout: &Layout) -> String {
     }
     if layout.default_chart != ChartType::Quad {
         doc["defaults"] = json!({ "chart": layout.default_chart.name() });
+    }
+    if let Some(m) = layout.mesh {
+        doc["mesh"] = json!({ "vertices": m.vertices, "triangles": m.triangles });
     }
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
 }
@@ -429,7 +500,8 @@ mod tests {
         { "nodes": [1, 2], "align": true, "via": [ { "vertex": 77 }, { "point": [0.2, 0.4, 0.0] } ] }
       ],
       "patches": [ { "corners": [0, 1, 2, 0], "chart": "quad" } ],
-      "defaults": { "chart": "rect" }
+      "defaults": { "chart": "rect" },
+      "mesh": { "vertices": 6475, "triangles": 12946 }
     }"#;
 
     #[test]
@@ -441,7 +513,31 @@ mod tests {
         let l = parse_layout(&text).unwrap();
         assert_eq!(l.default_chart, ChartType::Rect);
         assert_eq!(l.edges[1].via[1], Location::Point([0.2, 0.4, 0.0]));
+        assert_eq!(l.mesh, Some(MeshCounts { vertices: 6475, triangles: 12946 }));
         assert_eq!(parse_layout(&write_layout(&l)).unwrap(), l);
+    }
+
+    #[test]
+    fn a_layout_for_another_mesh_is_refused_when_it_names_vertices() {
+        let mut l = parse_layout(&EXAMPLE.replace("[0, 1, 2, 0]", "[0, 1, 2, 3]").replace(r#"{ "vertex": 3 } ]"#, r#"{ "vertex": 3 }, { "vertex": 4 } ]"#)).unwrap();
+        let made_for = MeshCounts { vertices: 6475, triangles: 12946 };
+        let other = MeshCounts { vertices: 2337, triangles: 4608 };
+        assert_eq!(l.check_mesh(&[made_for]), Ok(()));
+        // The repaired mesh's counts or the file's: either is this mesh.
+        assert_eq!(l.check_mesh(&[other, made_for]), Ok(()));
+        let e = l.check_mesh(&[other]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "mesh: the layout was made for another mesh: it was drawn on a mesh of 6475 vertices and 12946 \
+             triangles, this mesh has 2337 vertices and 4608 triangles"
+        );
+        // Points only: the counts are informative.
+        l.nodes = vec![Location::Point([0.0; 3]); 4];
+        l.edges.iter_mut().for_each(|e| e.via.clear());
+        assert_eq!(l.check_mesh(&[other]), Ok(()));
+        l.mesh = None;
+        l.nodes[0] = Location::Vertex(1);
+        assert_eq!(l.check_mesh(&[other]), Ok(()));
     }
 
     #[test]
@@ -458,6 +554,9 @@ mod tests {
             (base.replace("EDGES", "").replace("{\"vertex\":1}", "{\"vertex\":-1}"), "nodes[1].vertex: expected a non-negative whole number"),
             (base.replace("EDGES", "").replace("{\"vertex\":1}", "{\"vertex\":1,\"point\":[0,0,0]}"), "nodes[1]: expected {\"vertex\": i} or {\"point\": [x, y, z]}"),
             (base.replace("EDGES", "").replace("\"edges\":[]", "\"edges\":[],\"defaults\":{\"chart\":\"hex\"}"), "defaults.chart: unknown chart type 'hex' (quad, rect or unit)"),
+            (base.replace("EDGES", "").replace("\"edges\":[]", "\"edges\":[],\"mesh\":{\"vertices\":3}"), "mesh: missing 'triangles'"),
+            (base.replace("EDGES", "").replace("\"edges\":[]", "\"edges\":[],\"mesh\":{\"vertices\":3,\"triangles\":1.5}"), "mesh.triangles: expected a non-negative whole number"),
+            (base.replace("EDGES", "").replace("\"edges\":[]", "\"edges\":[],\"mesh\":{\"vertices\":3,\"triangles\":1,\"name\":\"x\"}"), "mesh: unknown key 'name'"),
         ];
         for (text, want) in cases {
             let got = parse_layout(&text).map(|_| ()).unwrap_err().to_string();

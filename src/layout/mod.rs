@@ -14,7 +14,7 @@ use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
 use curve::{meeting_point, trace_curve, Curve, CurvePoint};
 use embedding::{rotation, trace_faces, CurveNodes, Directed};
-pub use file::{parse_layout, write_layout, ChartType, Layout, LayoutFileError, Location, MAX_WAYPOINTS};
+pub use file::{parse_layout, write_layout, ChartType, Layout, LayoutFileError, Location, MeshCounts, MAX_WAYPOINTS};
 use std::fmt;
 
 /// Where a curve comes from: a layout edge of the file, or a piece of a mesh boundary loop.
@@ -185,6 +185,17 @@ impl From<LayoutFileError> for LayoutError {
 /// # Errors
 /// Every rule of the layout format; see [`LayoutError`].
 pub fn build_layout(mesh: &Mesh, layout: &Layout) -> Result<SurfaceLayout, LayoutError> {
+    build_layout_on(mesh, layout, MeshCounts::of(mesh))
+}
+
+/// [`build_layout`] on a mesh that repairs the user asked for (`--keep-largest`,
+/// `--fill-holes`) made from the file's mesh of `as_read` counts: the vertex numbering is
+/// the file's, so a layout drawn on either is accepted (its `mesh` entry may name either).
+///
+/// # Errors
+/// Every rule of the layout format; see [`LayoutError`].
+pub fn build_layout_on(mesh: &Mesh, layout: &Layout, as_read: MeshCounts) -> Result<SurfaceLayout, LayoutError> {
+    layout.check_mesh(&[MeshCounts::of(mesh), as_read])?;
     let node_vertex = file::resolve_nodes(mesh, layout)?;
     let mut is_node = vec![false; mesh.n_vertices()];
     for &v in &node_vertex {

@@ -5,6 +5,7 @@ pub mod closest;
 pub mod quality;
 
 pub mod counts;
+pub mod density;
 pub mod locate;
 
 use crate::layout::SurfaceLayout;
@@ -12,7 +13,7 @@ use crate::geom::{norm, sub};
 use crate::mesh::{build_mesh, Mesh, MeshError, TriangleSoup, NONE};
 use crate::param::frames::ChartFrames;
 use crate::param::ParamSession;
-use counts::{sample_counts, CountError, Equation};
+use counts::{sample_counts, CountError};
 use locate::{closest_on_segment, ChartIndex, Hit};
 use std::fmt;
 
@@ -38,8 +39,9 @@ impl QuadMesh {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub struct QuadOptions {
-    /// Target quad edge length in the mesh's units. Default (via [`QuadOptions::for_mesh`]):
-    /// 1/40 of the bounding-box diagonal.
+    /// Target quad edge length in the mesh's units: the quad mesh gets about surface area /
+    /// edge_length² quads ([`density`]). Default (via [`QuadOptions::for_mesh`]): 1/40 of the
+    /// bounding-box diagonal.
     pub edge_length: f64,
 }
 
@@ -182,19 +184,6 @@ pub fn check_reads_back(quads: &QuadMesh) -> Result<(), QuadError> {
     Err(QuadError::Unreadable { quad, at, error })
 }
 
-/// The equations of Section 4: per face, side 0 against side 2 and side 1 against side 3.
-pub fn count_equations(layout: &SurfaceLayout) -> Vec<Equation> {
-    let mut out = Vec::with_capacity(2 * layout.faces.len());
-    for f in &layout.faces {
-        for s in 0..2 {
-            let mut eq: Equation = f.side(s).iter().map(|d| (d.curve, 1)).collect();
-            eq.extend(f.side(s + 2).iter().map(|d| (d.curve, -1)));
-            out.push(eq);
-        }
-    }
-    out
-}
-
 /// Maps chart points of one face back to the surface.
 struct BackMap<'a> {
     param: &'a ParamSession,
@@ -265,6 +254,9 @@ type Sample = (u32, [f64; 2]);
 pub struct Extraction {
     /// Segments per layout curve.
     pub counts: Vec<u32>,
+    /// The desired (real) segments per layout curve: the mean of its faces' desires
+    /// ([`density`]).
+    pub desired: Vec<f64>,
     /// Grid points that fell outside every triangle of their chart and its neighbours and
     /// were moved onto the nearest one (a sign of flipped or folded triangles).
     pub outside_points: usize,
@@ -272,7 +264,8 @@ pub struct Extraction {
 
 /// Extracts the quad mesh of a finished parameterization (paper Section 4).
 ///
-/// Every curve gets a sample count ([`counts`]); each face's grid joins the samples of
+/// Every curve gets a sample count ([`counts`]) near its desired count, which follows the
+/// faces' surface areas ([`density`]: about surface area / h² quads); each face's grid joins the samples of
 /// opposite sides; grid points are mapped back to the surface through the triangles
 /// parameterized in the face's chart, or in a neighbour's across the nearest side. Samples
 /// on curves and nodes have one vertex each, shared by both faces: the mesh is welded by
@@ -284,15 +277,26 @@ pub struct Extraction {
 pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptions) -> Result<(QuadMesh, Extraction), QuadError> {
     let h = options.edge_length;
     check_edge_length(layout, h)?;
-    let desired: Vec<f64> = layout.curves.iter().map(|c| c.curve.length / h).collect();
-    let counts = sample_counts(&desired, &count_equations(layout)).map_err(|error| {
-        let pieces = match &error {
+    let desires = density::face_desires(layout, param, h);
+    let problem = density::IncidenceCounts::new(layout, &desires);
+    let counts = sample_counts(&problem.desired, &problem.equations).map_err(|error| {
+        let incidences = match &error {
             CountError::Infeasible { pieces_at_one } => pieces_at_one.clone(),
             CountError::Fractional { piece } => vec![*piece],
             CountError::Solver(_) => Vec::new(),
         };
+        let mut pieces: Vec<u32> = incidences.iter().map(|&i| problem.curve[i as usize]).collect();
+        pieces.sort_unstable();
+        pieces.dedup();
+        let error = match error {
+            CountError::Infeasible { .. } => CountError::Infeasible { pieces_at_one: pieces.clone() },
+            CountError::Fractional { .. } => CountError::Fractional { piece: pieces[0] },
+            other => other,
+        };
         QuadError::Counts { error, pieces: pieces.iter().map(|&c| layout.curves[c as usize].source.to_string()).collect() }
     })?;
+    let counts = problem.per_curve(&counts, layout.curves.len());
+    let desired = density::desired_counts(layout, &desires);
     // Rounding may add a little to the desired counts: count again, the counts now agree.
     within_cap(grid_quads(layout, |c| counts[c as usize] as f64))?;
 
@@ -415,7 +419,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
             }
         }
     }
-    Ok((mesh, Extraction { counts, outside_points: map.outside }))
+    Ok((mesh, Extraction { counts, desired, outside_points: map.outside }))
 }
 
 #[cfg(test)]

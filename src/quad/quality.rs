@@ -52,6 +52,9 @@ pub struct Quality {
     /// input triangle nearest to the quad's centroid, plus degenerate quads (zero normal,
     /// non-finite corner or vertex index out of range).
     pub flipped_quads: usize,
+    /// The flipped or degenerate quads, in order (for warnings; not serialized).
+    #[serde(skip)]
+    pub flipped: Vec<u32>,
     /// One-sided Hausdorff distance from the quad mesh to the input surface, divided by the
     /// diagonal of the input's bounding box.
     pub hausdorff_to_input: f64,
@@ -60,6 +63,10 @@ pub struct Quality {
     pub hausdorff_from_input: f64,
     /// The larger of the two one-sided distances: the Hausdorff distance.
     pub hausdorff: f64,
+    /// Where the quads miss the input by [`hausdorff`](Self::hausdorff): a point on the input
+    /// surface (the input sample farthest from the quads, or the input's point nearest to the
+    /// quad sample farthest from it). The origin when nothing was measured.
+    pub hausdorff_at: Vec3,
 }
 
 /// Measures `quads` against the surface `input` it was made from.
@@ -104,12 +111,11 @@ pub fn measure(input: &Mesh, quads: &QuadMesh) -> Quality {
             .iter()
             .map(|t| t.map(|v| input.position(v))),
     );
-    let flipped_quads = corners
-        .iter()
-        .filter(|q| is_flipped(input, &input_tree, q.as_ref()))
-        .count();
+    let flipped: Vec<u32> = (0..corners.len() as u32)
+        .filter(|&q| is_flipped(input, &input_tree, corners[q as usize].as_ref()))
+        .collect();
 
-    let (hausdorff_to_input, hausdorff_from_input) = {
+    let (hausdorff_to_input, hausdorff_from_input, hausdorff_at) = {
         let (lo, hi) = bounding_box(input);
         let diagonal = norm(sub(hi, lo));
         let relative = |d: f64| if diagonal > 0.0 { d / diagonal } else { 0.0 };
@@ -119,9 +125,12 @@ pub fn measure(input: &Mesh, quads: &QuadMesh) -> Quality {
                 .flatten()
                 .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]),
         );
-        let to = farthest(&input_tree, quad_samples(quads, &edges, &corners));
-        let from = farthest(&quad_tree, input_samples(input));
-        (relative(to), relative(from))
+        let (to, to_at) = farthest(&input_tree, quad_samples(quads, &edges, &corners));
+        let (from, from_at) = farthest(&quad_tree, input_samples(input));
+        // A quad sample is off the surface: show the surface point nearest to it.
+        let on_input = |p: Vec3| input_tree.closest(p).map_or(p, |hit| hit.point);
+        let at = if from >= to { from_at } else { on_input(to_at) };
+        (relative(to), relative(from), at)
     };
 
     Quality {
@@ -134,10 +143,12 @@ pub fn measure(input: &Mesh, quads: &QuadMesh) -> Quality {
         edge_length_cv: coefficient_of_variation(&lengths),
         scaled_jacobian_min: jacobians.min(),
         scaled_jacobian_mean: jacobians.mean(),
-        flipped_quads,
+        flipped_quads: flipped.len(),
+        flipped,
         hausdorff_to_input,
         hausdorff_from_input,
         hausdorff: hausdorff_to_input.max(hausdorff_from_input),
+        hausdorff_at,
     }
 }
 
@@ -329,15 +340,17 @@ fn is_flipped(input: &Mesh, tree: &TriangleTree, quad: Option<&[Vec3; 4]>) -> bo
     dot(n, cross(sub(b, a), sub(c, a))) < 0.0
 }
 
-/// Largest distance from any of `samples` to the triangles of `tree` (0 if none is found).
-fn farthest(tree: &TriangleTree, samples: impl Iterator<Item = Vec3>) -> f64 {
+/// Largest distance from any of `samples` to the triangles of `tree` and the sample that has
+/// it (0 and the origin if none is found).
+fn farthest(tree: &TriangleTree, samples: impl Iterator<Item = Vec3>) -> (f64, Vec3) {
     let mut leaf = 0;
-    samples
-        .fold(0.0, |farthest: f64, p| match tree.distance_squared_beyond(p, farthest, &mut leaf) {
-            Some(d) if d.is_finite() => farthest.max(d),
-            _ => farthest,
-        })
-        .sqrt()
+    let (d2, at) = samples.fold((0.0, [0.0; 3]), |(farthest, at): (f64, Vec3), p| {
+        match tree.distance_squared_beyond(p, farthest, &mut leaf) {
+            Some(d) if d.is_finite() && d > farthest => (d, p),
+            _ => (farthest, at),
+        }
+    });
+    (d2.sqrt(), at)
 }
 
 /// Bilinear parameters of the samples inside each quad.
@@ -661,9 +674,11 @@ mod tests {
                 scaled_jacobian_min: 0.0,
                 scaled_jacobian_mean: 0.0,
                 flipped_quads: 0,
+                flipped: vec![],
                 hausdorff_to_input: 0.0,
                 hausdorff_from_input: 0.0,
                 hausdorff: 0.0,
+                hausdorff_at: [0.0; 3],
             }
         );
 
@@ -678,9 +693,30 @@ mod tests {
         assert_all_finite(&measure(&input, &huge));
         // The four quads at vertex 5 have a non-finite corner, the last two are degenerate.
         assert_eq!((q.faces, q.flipped_quads), (11, 6));
+        assert_eq!(q.flipped, vec![0, 1, 3, 4, 9, 10]);
         // The remaining quads still lie on the surface.
         assert_close(q.hausdorff_to_input, 0.0, 1e-12, "quads to input");
         assert_close(q.scaled_jacobian_min, 0.0, 0.0, "the point quad's Jacobian");
+    }
+
+    #[test]
+    fn the_worst_miss_is_placed_on_the_input() {
+        // A 4×4 grid over the 2×2 square with its vertex (1, 2) lifted by 0.5: the quads miss
+        // the plane most there, and the point shown is the plane's point below it.
+        let input = quad_grid(SQUARE, 2);
+        let mut lifted = grid(SQUARE, 4);
+        let v = 2 * 5 + 1;
+        lifted.positions[v][2] = 0.5;
+        let q = measure(&input, &lifted);
+        assert_close(q.hausdorff, 0.5 / 8f64.sqrt(), 1e-12, "Hausdorff over the diagonal");
+        let [x, y, _] = lifted.positions[v];
+        assert_eq!(q.hausdorff_at, [x, y, 0.0]);
+        // A quad mesh that leaves out part of the input: the input's farthest sample.
+        let mut part = grid(SQUARE, 4);
+        part.quads.truncate(8);
+        let q = measure(&input, &part);
+        assert!(q.hausdorff_from_input > q.hausdorff_to_input);
+        assert!(q.hausdorff_at[1] > 1.9, "the far side of the square: {:?}", q.hausdorff_at);
     }
 
     #[test]

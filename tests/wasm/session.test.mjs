@@ -212,7 +212,7 @@ test('remesh: the quad mesh of the active run, its report (cli.md) and files', (
     assert.deepEqual(s.quadReport(), report);
     // A failed extraction says why and leaves no quad mesh.
     assert.throws(() => s.remesh({ edge_length: -1 }), /edge length/);
-    assert.throws(() => s.remesh({ edgeLength: 0.05 }), /remesh options: unknown option `edgeLength` \(known: edge_length\)/);
+    assert.throws(() => s.remesh({ edgeLength: 0.05 }), /remesh options: unknown option `edgeLength` \(known: edge_length, quads\)/);
     assert.throws(() => s.quadPositions(), /remesh first/);
     // A coarser edge length gives fewer quads.
     const coarse = s.remesh({ edge_length: 0.05 });
