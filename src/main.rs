@@ -3,7 +3,8 @@
 
 use quadlay::clock::now;
 use quadlay::io::{read_mesh_with_resources, write_glb, write_gltf, write_obj, write_ply, Polygons};
-use quadlay::layout::{build_layout, parse_layout, ChartType, Layout, SurfaceLayout};
+use quadlay::field::{propose_layout, LayoutOptions, Proposal, ProposeError};
+use quadlay::layout::{build_layout, parse_layout, write_layout, ChartType, Layout, SurfaceLayout};
 use quadlay::param::{input_uv::input_corner_uv, ParamError, ParamOptions, ParamSession};
 use quadlay::quad::{check_edge_length, default_edge_length, QuadError, QuadOptions};
 use quadlay::quote::{printable, quoted};
@@ -16,7 +17,7 @@ use std::process::ExitCode;
 mod outputs;
 
 const USAGE: &str = "usage:
-  quadlay remesh MESH --layout LAYOUT [options]
+  quadlay remesh MESH --layout LAYOUT|auto [options]
                               parameterize MESH with the layout and extract a pure quad mesh
       --edge-length L         target quad edge length: about surface area / L² quads
                               (default 1/40 of the bounding-box diagonal)
@@ -27,6 +28,10 @@ const USAGE: &str = "usage:
       -o, --out FILE          the quad mesh: .obj, .ply (quads), .glb, .gltf (triangles)
       --param-out FILE.obj    the input mesh with per-corner parameter coordinates
       --report FILE.json      the run report (- for standard output)
+  quadlay layout MESH -o LAYOUT.json [options]
+                              propose a coarse quad layout from the surface's cross field
+      --patches N             about how many faces the layout should have
+      --feature-angle DEG     sharp edges (tagged layout edges) bend more than DEG (default 35)
   quadlay check MESH [--layout LAYOUT]
                               read and validate a mesh (OBJ, PLY, STL, glTF/GLB) and a layout
                               (shared/spec/layout-format.md), print a summary
@@ -72,6 +77,7 @@ fn run(args: &[String]) -> Result<(), Failure> {
     match args.first().map(String::as_str) {
         Some("check") => check(&args[1..]),
         Some("remesh") => remesh(&args[1..]),
+        Some("layout") => layout(&args[1..]),
         Some("--help") | Some("-h") => {
             say(&format!("{USAGE}\n"))
         }
@@ -240,7 +246,13 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     let loaded = load(mesh_path)?;
     let mesh = &loaded.mesh;
     let t_load = now();
-    let layout = place_layout(mesh, layout_path, read_layout(layout_path)?)?;
+    // `--layout auto`: the layout `quadlay layout` proposes, with its defaults.
+    let layout_file = if layout_path == "auto" {
+        propose(mesh, mesh_path, &LayoutOptions::default())?.layout
+    } else {
+        read_layout(layout_path)?
+    };
+    let layout = place_layout(mesh, layout_path, layout_file)?;
     let edge_length = match (a.edge_length, a.quads) {
         (Some(l), _) => l,
         (None, Some(n)) => edge_length_for_quads(mesh, n),
@@ -334,6 +346,75 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
         say(&text)?;
     }
     Ok(())
+}
+
+/// The options of `layout` (cli.md).
+#[derive(Default)]
+struct LayoutArgs {
+    mesh: Option<String>,
+    out: Option<String>,
+    options: LayoutOptions,
+}
+
+fn parse_layout_args(args: &[String]) -> Result<LayoutArgs, Failure> {
+    let mut r = LayoutArgs::default();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let mut value = |name: &str| it.next().cloned().ok_or_else(|| bad_input(format!("{name} needs a value")));
+        match a.as_str() {
+            "-o" | "--out" => r.out = Some(value("--out")?),
+            "--patches" => {
+                let v = value("--patches")?;
+                let n: usize = v.parse().map_err(|_| bad_input(format!("--patches: '{v}' is not a whole number")))?;
+                if !(1..=100_000).contains(&n) {
+                    return Err(bad_input(format!("--patches must be between 1 and 100000, not {n}")));
+                }
+                r.options.patches = Some(n);
+            }
+            "--feature-angle" => {
+                let v = value("--feature-angle")?;
+                let d: f64 = v.parse().map_err(|_| bad_input(format!("--feature-angle: '{v}' is not a number")))?;
+                if !(d > 0.0 && d < 180.0) {
+                    return Err(bad_input(format!("--feature-angle must be between 0 and 180 degrees, not {v}")));
+                }
+                r.options.feature_angle = d;
+            }
+            _ if a.starts_with('-') => return Err(bad_input(format!("layout: unknown option '{a}'"))),
+            _ if r.mesh.is_some() => return Err(bad_input("layout takes one mesh file".into())),
+            _ => r.mesh = Some(a.clone()),
+        }
+    }
+    Ok(r)
+}
+
+/// A proposed layout for `mesh` (`quadlay layout`, `remesh --layout auto`).
+fn propose(mesh: &quadlay::mesh::Mesh, mesh_path: &str, options: &LayoutOptions) -> Result<Proposal, Failure> {
+    propose_layout(mesh, options).map_err(|e| {
+        let code = if matches!(e, ProposeError::Field(_)) { 1 } else { 2 };
+        Failure { code, message: format!("{mesh_path}: {e}") }
+    })
+}
+
+fn layout(args: &[String]) -> Result<(), Failure> {
+    let t0 = now();
+    let a = parse_layout_args(args)?;
+    let mesh_path = a.mesh.as_deref().ok_or_else(|| bad_input("layout needs a mesh file".into()))?;
+    let out = a.out.as_deref().ok_or_else(|| bad_input("layout needs -o LAYOUT.json".into()))?;
+    outputs::check_distinct(&[("the input mesh", mesh_path)], &[("--out", out)])?;
+    let loaded = load(mesh_path)?;
+    let p = propose(&loaded.mesh, mesh_path, &a.options)?;
+    outputs::commit(outputs::stage(vec![(out.to_string(), write_layout(&p.layout).into_bytes())])?)?;
+    let s = &p.surface;
+    say(&format!(
+        "{} nodes, {} edges ({} tagged), {} faces, {} T-vertices; {} singularities of the cross field; {:.2} s\n",
+        s.node_vertex.len(),
+        p.layout.edges.len(),
+        p.layout.edges.iter().filter(|e| e.align).count(),
+        s.faces.len(),
+        s.t_vertex_count(),
+        p.field.singularities.len(),
+        now() - t0
+    ))
 }
 
 fn load(path: &str) -> Result<quadlay::io::LoadedMesh, Failure> {

@@ -10,8 +10,8 @@ use quadlay::mesh::Mesh;
 use quadlay::param::{ParamOptions, ParamSession};
 use quadlay::quad::quality::{measure, Quality};
 use quadlay::quad::density::edge_length_for_quads;
-use quadlay::quad::{extract, QuadMesh, QuadOptions};
-use std::collections::{HashMap, HashSet};
+use quadlay::quad::{extract, QuadOptions};
+use std::collections::HashSet;
 
 fn parameterize(mesh: &Mesh, layout: &SurfaceLayout, iterations: usize) -> ParamSession {
     let mut s = ParamSession::new(mesh, layout, &ParamOptions::default()).unwrap();
@@ -24,42 +24,6 @@ fn parameterize(mesh: &Mesh, layout: &SurfaceLayout, iterations: usize) -> Param
 
 fn length(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
-/// Edges used by one quad only, chained into loops: the number of boundary loops. Also
-/// checks that no edge has more than two quads (the mesh is a manifold, welded).
-fn quad_boundary_loops(q: &QuadMesh) -> usize {
-    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
-    for f in &q.quads {
-        for k in 0..4 {
-            let (a, b) = (f[k], f[(k + 1) % 4]);
-            *uses.entry((a.min(b), a.max(b))).or_default() += 1;
-        }
-    }
-    assert!(uses.values().all(|&u| u <= 2), "an edge has more than two quads");
-    let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
-    for (&(a, b), &u) in &uses {
-        if u == 1 {
-            next.entry(a).or_default().push(b);
-            next.entry(b).or_default().push(a);
-        }
-    }
-    let mut seen = HashSet::new();
-    let mut loops = 0;
-    for &start in next.keys() {
-        if seen.insert(start) {
-            loops += 1;
-            let mut stack = vec![start];
-            while let Some(v) = stack.pop() {
-                for &w in &next[&v] {
-                    if seen.insert(w) {
-                        stack.push(w);
-                    }
-                }
-            }
-        }
-    }
-    loops
 }
 
 #[test]
@@ -90,7 +54,7 @@ fn the_sheared_cube_gives_congruent_parallelograms_and_eight_irregular_corners()
         assert_eq!(quality.irregular, nodes, "irregular vertices are exactly the 8 corners");
         assert_eq!(quality.flipped_quads, 0);
         assert!(quality.hausdorff < 1e-9, "{}", quality.hausdorff);
-        assert_eq!(quad_boundary_loops(&quads), 0);
+        assert_eq!(common::quad_boundary_loops(&quads), 0);
     }
     // Rectangular charts cannot take the parallelogram: the same extraction is not congruent.
     let (mesh, layout) = common::sheared_cube_with_chart(8, "rect");
@@ -132,7 +96,7 @@ fn every_sample_gives_a_welded_pure_quad_mesh() {
         let q = measure(&mesh, &quads);
         print_quality(layout_name, &q, seconds);
         assert!(q.faces > 100, "{layout_name}: {} quads", q.faces);
-        assert_eq!(quad_boundary_loops(&quads), topology(&mesh).boundary_loops.len(), "{layout_name}: holes");
+        assert_eq!(common::quad_boundary_loops(&quads), topology(&mesh).boundary_loops.len(), "{layout_name}: holes");
         assert_eq!(q.flipped_quads, 0, "{layout_name}: flipped quads");
         assert!(quads.positions.iter().flatten().all(|x| x.is_finite()));
         let nodes: HashSet<u32> = quads.node_vertices().collect();

@@ -4,18 +4,24 @@
 //! [`compute_field`] finds the smoothest 4-direction field on the surface (Knöppel, Crane,
 //! Pinkall, Schröder 2013), aligned to principal curvature directions where the surface is
 //! clearly anisotropic, with sharp feature edges and the boundary as hard constraints, and its
-//! singularities.
+//! singularities. [`propose`] builds the layout proposal on it.
 
 pub mod complex;
 pub mod cross;
 pub mod curvature;
+pub mod faces;
 pub mod features;
 pub mod frames;
+pub mod graph;
+pub mod propose;
+pub mod separatrix;
 pub mod singularities;
+pub mod trace;
 
 pub use complex::Complex;
 pub use features::{find_features, Features};
 pub use frames::Frames;
+pub use propose::{propose_layout, LayoutOptions, Proposal, ProposeError};
 pub use singularities::{singularities, Singularity};
 
 use crate::geom::{norm, sub};
@@ -46,6 +52,39 @@ impl CrossField {
     pub fn arms(&self, v: u32) -> [[f64; 3]; 4] {
         let t = self.angle(v);
         std::array::from_fn(|k| self.frames.direction(v, t + k as f64 * std::f64::consts::FRAC_PI_2))
+    }
+}
+
+/// The field for drawing (the page's field view): one arm of the cross per vertex and the
+/// singularities with their valence.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct FieldView {
+    /// Per vertex, xyz of a unit arm of its cross (the other arms: turn it by 90° about the
+    /// normal); zeros for isolated vertices.
+    pub directions: Vec<f32>,
+    /// Per singularity, xyz of the centroid of its triangle.
+    pub singularity_positions: Vec<f32>,
+    /// Per singularity, its valence (3, 5, ...).
+    pub singularity_valences: Vec<i32>,
+}
+
+impl CrossField {
+    /// The field as flat arrays for drawing.
+    pub fn view(&self, mesh: &Mesh) -> FieldView {
+        let directions = (0..mesh.n_vertices() as u32)
+            .flat_map(|v| if mesh.is_isolated(v) { [0.0; 3] } else { self.arms(v)[0] }.map(|x| x as f32))
+            .collect();
+        let singularity_positions = self
+            .singularities
+            .iter()
+            .flat_map(|s| {
+                let p = mesh.triangles()[s.triangle as usize].map(|v| mesh.position(v));
+                [0, 1, 2].map(|k| ((p[0][k] + p[1][k] + p[2][k]) / 3.0) as f32)
+            })
+            .collect();
+        let singularity_valences = self.singularities.iter().map(Singularity::valence).collect();
+        FieldView { directions, singularity_positions, singularity_valences }
     }
 }
 
@@ -135,6 +174,15 @@ pub(crate) mod tests {
         let f = compute_field(&m, DEFAULT_FEATURE_ANGLE).unwrap();
         let valences: Vec<i32> = f.singularities.iter().map(|s| s.valence()).collect();
         assert_eq!(valences, vec![3; 8], "{:?}", f.singularities);
+        let view = f.view(&m);
+        assert_eq!(view.directions.len(), 3 * m.n_vertices());
+        assert_eq!((view.singularity_positions.len(), view.singularity_valences), (24, vec![3; 8]));
+        // Each singularity sits on the unit sphere, near a corner of the cube (|x| = |y| = |z|).
+        for p in view.singularity_positions.chunks(3) {
+            let r = p.iter().map(|&x| (x as f64).powi(2)).sum::<f64>().sqrt();
+            assert!((r - 1.0).abs() < 0.05, "{p:?}");
+            assert!(p.iter().all(|&x| ((x as f64).abs() - 1.0 / 3f64.sqrt()).abs() < 0.15), "{p:?}");
+        }
     }
 
     #[test]

@@ -27,8 +27,9 @@ pub fn run_cli(args: &[&str]) -> (i32, String, String) {
 
 use quadlay::layout::{build_layout, parse_layout, LayoutError, SurfaceLayout};
 use quadlay::mesh::{build_mesh, Mesh, TriangleSoup};
+use quadlay::quad::QuadMesh;
 use serde_json::{json, Value};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::time::Duration;
 
 /// A shared mesh read through the library.
@@ -629,4 +630,40 @@ pub fn sheared_cube_with_chart(n: u32, chart: &str) -> (Mesh, SurfaceLayout) {
     let edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4], [0, 4], [1, 5], [2, 6], [3, 7]];
     let layout = build_layout(&mesh, &parse_layout(&layout_json(&nodes, &edges, chart)).unwrap()).unwrap();
     (mesh, layout)
+}
+
+/// Edges used by one quad only, chained into loops: the number of boundary loops. Also
+/// checks that no edge has more than two quads (the mesh is a manifold, welded).
+pub fn quad_boundary_loops(q: &QuadMesh) -> usize {
+    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+    for f in &q.quads {
+        for k in 0..4 {
+            let (a, b) = (f[k], f[(k + 1) % 4]);
+            *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    assert!(uses.values().all(|&u| u <= 2), "an edge has more than two quads");
+    let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (&(a, b), &u) in &uses {
+        if u == 1 {
+            next.entry(a).or_default().push(b);
+            next.entry(b).or_default().push(a);
+        }
+    }
+    let mut seen = HashSet::new();
+    let mut loops = 0;
+    for &start in next.keys() {
+        if seen.insert(start) {
+            loops += 1;
+            let mut stack = vec![start];
+            while let Some(v) = stack.pop() {
+                for &w in &next[&v] {
+                    if seen.insert(w) {
+                        stack.push(w);
+                    }
+                }
+            }
+        }
+    }
+    loops
 }

@@ -1,0 +1,157 @@
+//! The faces a curve graph cuts the surface into, measured the way the layout reader will
+//! judge them (layout-format.md, "patches"): each must be a disk (Euler characteristic 1, which
+//! also rules out a boundary that passes a node twice), have at least four nodes and a mesh
+//! vertex inside, and no segment may have the same face on both sides.
+
+use super::graph::CurveGraph;
+use crate::mesh::geometry::triangle_areas;
+use crate::mesh::{Mesh, NONE};
+use std::collections::VecDeque;
+
+/// One face of the cut surface.
+#[derive(Debug, Clone, Default)]
+pub struct FaceInfo {
+    pub area: f64,
+    /// V − E + F of its triangles.
+    pub euler: i64,
+    /// The nodes on its boundary.
+    pub nodes: Vec<u32>,
+    /// Its vertices on no curve, the boundary included.
+    pub inside: usize,
+    /// The inside vertex farthest (in edges) from every curve, if any.
+    pub deepest: Option<u32>,
+    /// The live segments on its boundary.
+    pub segments: Vec<u32>,
+}
+
+/// The faces, the face of every triangle, and the segments with one face on both sides.
+#[derive(Debug, Clone)]
+pub struct Faces {
+    pub faces: Vec<FaceInfo>,
+    pub of_triangle: Vec<u32>,
+    pub slits: Vec<u32>,
+}
+
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        parent[x as usize] = parent[parent[x as usize] as usize];
+        x = parent[x as usize];
+    }
+    x
+}
+
+/// Cuts `mesh` along the segments of `graph` and its boundary and measures the pieces.
+pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
+    let ne = mesh.n_edges();
+    let mut cut_by = vec![NONE; ne];
+    for s in graph.live() {
+        for w in graph.segments[s as usize].path.windows(2) {
+            if let Some(h) = mesh.find_halfedge(w[0], w[1]) {
+                cut_by[mesh.edge(h) as usize] = s;
+            }
+        }
+    }
+    let nf = mesh.n_faces();
+    let mut parent: Vec<u32> = (0..nf as u32).collect();
+    for e in 0..ne as u32 {
+        let (f, g) = (mesh.face(2 * e), mesh.face(2 * e + 1));
+        if f == NONE || g == NONE || cut_by[e as usize] != NONE {
+            continue;
+        }
+        let (a, b) = (find(&mut parent, f), find(&mut parent, g));
+        if a != b {
+            parent[a as usize] = b;
+        }
+    }
+    let mut id = vec![NONE; nf];
+    let mut faces: Vec<FaceInfo> = Vec::new();
+    let mut of_triangle = vec![NONE; nf];
+    let areas = triangle_areas(mesh);
+    for t in 0..nf as u32 {
+        let r = find(&mut parent, t) as usize;
+        if id[r] == NONE {
+            id[r] = faces.len() as u32;
+            faces.push(FaceInfo::default());
+        }
+        of_triangle[t as usize] = id[r];
+        let f = &mut faces[id[r] as usize];
+        f.area += areas[t as usize];
+        f.euler += 1;
+    }
+    // Edges: one per distinct face beside it.
+    let mut slit = vec![false; graph.segments.len()];
+    for e in 0..ne as u32 {
+        let (f, g) = (mesh.face(2 * e), mesh.face(2 * e + 1));
+        let (a, b) = (if f == NONE { NONE } else { of_triangle[f as usize] }, if g == NONE { NONE } else { of_triangle[g as usize] });
+        for x in [a, b] {
+            if x != NONE {
+                faces[x as usize].euler -= 1;
+            }
+        }
+        if a == b && a != NONE {
+            faces[a as usize].euler += 1;
+            if cut_by[e as usize] != NONE {
+                slit[cut_by[e as usize] as usize] = true;
+            }
+        }
+        let s = cut_by[e as usize];
+        if s != NONE {
+            for x in [a, b] {
+                if x != NONE && !faces[x as usize].segments.contains(&s) {
+                    faces[x as usize].segments.push(s);
+                }
+            }
+        }
+    }
+    // Vertices: one per distinct face around it; nodes and inside vertices.
+    let on_curve = |v: u32| graph.taken(v);
+    let mut dist = vec![u32::MAX; mesh.n_vertices()];
+    let mut queue = VecDeque::new();
+    let mut around = Vec::new();
+    for v in 0..mesh.n_vertices() as u32 {
+        if mesh.is_isolated(v) {
+            continue;
+        }
+        around.clear();
+        for h in mesh.outgoing(v) {
+            let f = mesh.face(h);
+            if f != NONE && !around.contains(&of_triangle[f as usize]) {
+                around.push(of_triangle[f as usize]);
+            }
+        }
+        for &x in &around {
+            faces[x as usize].euler += 1;
+            if graph.node[v as usize] {
+                faces[x as usize].nodes.push(v);
+            }
+        }
+        if on_curve(v) {
+            dist[v as usize] = 0;
+            queue.push_back(v);
+        } else if let Some(&x) = around.first() {
+            faces[x as usize].inside += 1;
+        }
+    }
+    while let Some(v) = queue.pop_front() {
+        for u in mesh.neighbors(v) {
+            if dist[u as usize] == u32::MAX {
+                dist[u as usize] = dist[v as usize] + 1;
+                queue.push_back(u);
+            }
+        }
+    }
+    let mut best = vec![0u32; faces.len()];
+    for v in 0..mesh.n_vertices() as u32 {
+        if mesh.is_isolated(v) || on_curve(v) {
+            continue;
+        }
+        let Some(f) = mesh.outgoing(v).map(|h| mesh.face(h)).find(|&f| f != NONE) else { continue };
+        let x = of_triangle[f as usize] as usize;
+        if dist[v as usize] > best[x] {
+            best[x] = dist[v as usize];
+            faces[x].deepest = Some(v);
+        }
+    }
+    let slits = (0..graph.segments.len() as u32).filter(|&s| slit[s as usize]).collect();
+    Faces { faces, of_triangle, slits }
+}

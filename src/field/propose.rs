@@ -1,0 +1,573 @@
+//! An automatic coarse quad layout from the cross field (issue 22; method-notes §11).
+//!
+//! 1. The cross field and its singularities ([`compute_field`]); close valence-3/5 pairs
+//!    cancel, and singularities on feature lines or the boundary are left to those lines.
+//! 2. Feature lines and the boundary (with nodes at its corners, at least four per loop)
+//!    are curves from the start.
+//! 3. Separatrices leave every singular vertex, and traces continue feature lines that end
+//!    inside a smooth region; they grow as a motorcycle graph ([`Motorcycles`]).
+//! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
+//!    not a disk (a handle, a sphere without singularities) gets a cross of traces from its
+//!    deepest vertex; dangling traces go; a face with no vertex inside loses a trace; a face
+//!    with fewer than four nodes gets one more on its boundary; faces are split by more traces
+//!    until there are about as many as asked for.
+//! 5. The graph is written as a layout file (nodes on vertices, every curve through its
+//!    vertices as waypoints, feature curves tagged) and checked with [`build_layout`] and the
+//!    sample-count equations; faces with a feature or boundary side get general quad charts,
+//!    the others rectangles (the paper's Section 5).
+
+use super::faces::{analyze, FaceInfo};
+use super::graph::CurveGraph;
+use super::separatrix::separatrix_directions;
+use super::trace::{Motorcycles, TraceEnd, BLOCKED};
+use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
+use crate::layout::file::{EdgeSpec, PatchSpec};
+use crate::layout::embedding::Directed;
+use crate::layout::{build_layout, curve, ChartType, CurveSource, Face, Layout, LayoutError, Location, SurfaceLayout};
+use crate::geom::{norm, sub};
+use crate::mesh::geometry::corner_angles;
+use crate::mesh::topology::topology;
+use crate::mesh::{Mesh, NONE};
+use crate::quad::counts::{sample_counts, CountError};
+use crate::quad::default_edge_length;
+use crate::quad::density::IncidenceCounts;
+use crate::param::{ParamError, ParamOptions, ParamSession};
+use crate::solve::SolveError;
+use std::f64::consts::PI;
+use std::fmt;
+
+/// Options of [`propose_layout`] (cli.md, `quadlay layout`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub struct LayoutOptions {
+    /// Sharp feature edges have a dihedral angle above this, in degrees. Default 35.
+    pub feature_angle: f64,
+    /// About how many faces the layout should have; `None`: as the field gives them.
+    pub patches: Option<usize>,
+}
+
+impl Default for LayoutOptions {
+    fn default() -> Self {
+        LayoutOptions { feature_angle: DEFAULT_FEATURE_ANGLE, patches: None }
+    }
+}
+
+/// A proposed layout and the field it came from.
+#[derive(Debug, Clone)]
+pub struct Proposal {
+    pub layout: Layout,
+    pub field: CrossField,
+    /// The layout as the reader places it on the mesh.
+    pub surface: SurfaceLayout,
+}
+
+/// Why no layout could be proposed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ProposeError {
+    /// The field's linear system could not be solved (a degenerate mesh).
+    Field(SolveError),
+    /// The repairs did not reach a valid layout; says which rule still failed.
+    NoValidLayout(String),
+}
+
+impl fmt::Display for ProposeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ProposeError::Field(e) => write!(f, "the cross field could not be computed: {e}"),
+            ProposeError::NoValidLayout(why) => write!(f, "no valid layout could be made automatically: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for ProposeError {}
+
+/// Opposite singularities closer than this fraction of the diagonal cancel.
+const CANCEL_DISTANCE: f64 = 0.03;
+/// Traces longer than this many diagonals stop (and are dropped as dangling).
+const MAX_TRACE_LENGTH: f64 = 3.0;
+/// A boundary vertex whose interior angle differs from π by more than this is a corner.
+const BOUNDARY_CORNER: f64 = PI / 4.0;
+/// Bound on the repair rounds.
+const MAX_ROUNDS: usize = 400;
+/// Bound on the layouts written and refused (each costs a placement on the surface).
+const MAX_REJECTIONS: usize = 40;
+/// Bound on the rounds that add crosses of traces.
+const MAX_SEED_ROUNDS: usize = 40;
+
+/// Proposes a coarse quad layout for `mesh`; see the module documentation.
+///
+/// # Errors
+/// [`ProposeError::Field`] if the field's solve fails; [`ProposeError::NoValidLayout`] if the
+/// repairs cannot make a layout that the reader accepts and that has consistent sample counts.
+pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
+    let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
+    // From the singularities first; should that fail, from crosses of traces alone (the
+    // singularities are then where the traces meet).
+    let first = attempt(mesh, &field, options, true);
+    let (layout, surface) = match first {
+        Ok(done) => done,
+        Err(why) => attempt(mesh, &field, options, false).map_err(|_| ProposeError::NoValidLayout(why))?,
+    };
+    Ok(Proposal { layout, field, surface })
+}
+
+/// One construction of the layout; the reason it failed otherwise.
+fn attempt(
+    mesh: &Mesh,
+    field: &CrossField,
+    options: &LayoutOptions,
+    from_singularities: bool,
+) -> Result<(Layout, SurfaceLayout), String> {
+    let diag = diagonal(mesh);
+    let mut g = CurveGraph::new(mesh);
+    for &c in &field.features.corners {
+        g.add_node(c, true);
+    }
+    for line in &field.features.lines {
+        g.add_path(line, true);
+    }
+    boundary_nodes(mesh, &mut g);
+
+    let mut moto = Motorcycles::new(mesh, field, owners(mesh, &g), MAX_TRACE_LENGTH * diag);
+    if from_singularities {
+        for (v, dirs) in singular_vertices(mesh, field, &g, diag) {
+            g.add_node(v, true);
+            moto.owner[v as usize] = BLOCKED;
+            for d in dirs {
+                moto.launch(v, d);
+            }
+        }
+    }
+    for &c in &field.features.corners {
+        if field.features.degree[c as usize] == 1 && !mesh.is_boundary_vertex(c) {
+            if let Some(h) = mesh.outgoing(c).find(|&h| field.features.sharp[mesh.edge(h) as usize]) {
+                moto.launch(c, sub(mesh.position(c), mesh.position(mesh.to_vertex(h))));
+            }
+        }
+    }
+    moto.run();
+    add_traces(&mut g, moto);
+
+    let mut seeds_left = MAX_SEED_ROUNDS;
+    let mut rejections = 0;
+    for _ in 0..MAX_ROUNDS {
+        if repair(mesh, field, &mut g, options.patches, diag, &mut seeds_left)? {
+            continue;
+        }
+        let rejected = match write(mesh, field, &g) {
+            Ok(done) => return Ok(done),
+            Err(e) => e,
+        };
+        // Simplify where the reader or the counts refused, and try again.
+        let removed = match &rejected {
+            Rejected::Layout(LayoutError::CurvesMeet { a: CurveSource::Edge(i), b: CurveSource::Edge(j), .. }) => {
+                remove_trace(&mut g, None, &[*i as u32, *j as u32])
+            }
+            Rejected::Counts(CountError::Infeasible { pieces_at_one }, surface) => {
+                remove_trace(&mut g, Some(surface), pieces_at_one)
+            }
+            Rejected::Counts(CountError::Fractional { piece }, surface) => remove_trace(&mut g, Some(surface), &[*piece]),
+            Rejected::Param(v, _) => remove_near(mesh, &mut g, *v),
+            _ => false,
+        };
+        rejections += 1;
+        if !removed || rejections > MAX_REJECTIONS {
+            return Err(rejected.to_string());
+        }
+    }
+    Err("the repairs did not converge".into())
+}
+
+/// Per vertex: [`BLOCKED`] where the graph or the boundary has it, else free.
+fn owners(mesh: &Mesh, g: &CurveGraph) -> Vec<u32> {
+    (0..mesh.n_vertices() as u32).map(|v| if g.taken(v) { BLOCKED } else { NONE }).collect()
+}
+
+/// Adds the traces that ended on something to the graph.
+fn add_traces(g: &mut CurveGraph, moto: Motorcycles) {
+    for t in moto.traces {
+        if t.end == TraceEnd::Hit && t.path.len() >= 2 {
+            g.add_path(&t.path, false);
+        }
+    }
+    g.prune();
+}
+
+/// Nodes on every boundary loop: its corners, and more (evenly by length) until it has four
+/// (or as many as it has vertices).
+fn boundary_nodes(mesh: &Mesh, g: &mut CurveGraph) {
+    let angles = corner_angles(mesh);
+    let interior_angle = |v: u32| -> f64 {
+        mesh.outgoing(v)
+            .filter(|&h| mesh.face(h) != NONE)
+            .map(|h| {
+                let f = mesh.face(h);
+                let k = mesh.triangles()[f as usize].iter().position(|&x| x == v).unwrap_or(0);
+                angles[f as usize][k]
+            })
+            .sum()
+    };
+    for lp in topology(mesh).boundary_loops {
+        let verts: Vec<u32> = lp.iter().map(|&h| mesh.to_vertex(h)).collect();
+        let mut at = vec![0.0];
+        for k in 1..verts.len() {
+            at.push(at[k - 1] + norm(sub(mesh.position(verts[k]), mesh.position(verts[k - 1]))));
+        }
+        let total = at[verts.len() - 1] + norm(sub(mesh.position(verts[0]), mesh.position(verts[verts.len() - 1])));
+        let mut chosen: Vec<usize> = (0..verts.len())
+            .filter(|&k| g.node[verts[k] as usize] || (interior_angle(verts[k]) - PI).abs() > BOUNDARY_CORNER)
+            .collect();
+        while chosen.len() < 4.min(verts.len()) {
+            // The vertex farthest along the loop from every chosen one.
+            let gap = |k: usize| {
+                chosen
+                    .iter()
+                    .map(|&c| {
+                        let d = (at[k] - at[c]).abs();
+                        d.min(total - d)
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let Some(k) = (0..verts.len()).max_by(|&a, &b| gap(a).total_cmp(&gap(b))) else { break };
+            chosen.push(k);
+        }
+        for k in chosen {
+            g.add_node(verts[k], true);
+        }
+    }
+}
+
+/// The singular vertices the layout starts from and the directions of their separatrices:
+/// singularities away from feature lines and the boundary, after close opposite pairs cancel.
+fn singular_vertices(mesh: &Mesh, field: &CrossField, g: &CurveGraph, diag: f64) -> Vec<(u32, Vec<[f64; 3]>)> {
+    let centroid = |f: u32| {
+        let p = mesh.triangles()[f as usize].map(|v| mesh.position(v));
+        std::array::from_fn::<f64, 3, _>(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0)
+    };
+    let sing: Vec<_> = field
+        .singularities
+        .iter()
+        .filter(|s| mesh.triangles()[s.triangle as usize].iter().all(|&v| !g.taken(v)))
+        .collect();
+    let mut gone = vec![false; sing.len()];
+    let mut pairs = Vec::new();
+    for i in 0..sing.len() {
+        for j in i + 1..sing.len() {
+            if sing[i].quarter_turns == -sing[j].quarter_turns {
+                let d = norm(sub(centroid(sing[i].triangle), centroid(sing[j].triangle)));
+                if d < CANCEL_DISTANCE * diag {
+                    pairs.push((d, i, j));
+                }
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (_, i, j) in pairs {
+        if !gone[i] && !gone[j] {
+            gone[i] = true;
+            gone[j] = true;
+        }
+    }
+    let mut used = vec![false; mesh.n_vertices()];
+    let mut out = Vec::new();
+    for (i, s) in sing.iter().enumerate() {
+        if gone[i] {
+            continue;
+        }
+        let c = centroid(s.triangle);
+        let mut corners = mesh.triangles()[s.triangle as usize];
+        corners.sort_by(|&a, &b| norm(sub(mesh.position(a), c)).total_cmp(&norm(sub(mesh.position(b), c))));
+        let Some(&v) = corners.iter().find(|&&v| !used[v as usize] && mesh.neighbors(v).all(|u| !used[u as usize])) else {
+            continue;
+        };
+        let dirs = separatrix_directions(mesh, field, v);
+        if dirs.is_empty() {
+            continue;
+        }
+        used[v as usize] = true;
+        out.push((v, dirs));
+    }
+    out
+}
+
+/// One repair (see the module documentation); false when nothing needed repair.
+fn repair(
+    mesh: &Mesh,
+    field: &CrossField,
+    g: &mut CurveGraph,
+    patches: Option<usize>,
+    diag: f64,
+    seeds_left: &mut usize,
+) -> Result<bool, String> {
+    g.prune();
+    let fa = analyze(mesh, g);
+    let not_disk: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.euler != 1).collect();
+    if !not_disk.is_empty() {
+        let seeds: Vec<u32> = not_disk.iter().filter_map(|f| f.deepest).collect();
+        if seeds.is_empty() {
+            // A ring of curves with nothing inside: drop one of its traces.
+            let s = not_disk.iter().flat_map(|f| f.segments.iter()).find(|&&s| !g.segments[s as usize].feature);
+            let Some(&s) = s else {
+                return Err("a face is not a disk and has no vertex inside to cut it from".into());
+            };
+            g.remove(s);
+            return Ok(true);
+        }
+        if *seeds_left == 0 {
+            return Err("a face is not a disk, and cutting it further did not help".into());
+        }
+        *seeds_left -= 1;
+        seed(mesh, field, g, &seeds, diag);
+        return Ok(true);
+    }
+    if !fa.slits.is_empty() {
+        for &s in &fa.slits {
+            g.remove(s);
+        }
+        return Ok(true);
+    }
+    if let Some(f) = fa.faces.iter().find(|f| f.inside == 0) {
+        // A trace if there is one, else a feature line too short to hold quads.
+        let s = f.segments.iter().copied().min_by_key(|&s| (g.segments[s as usize].feature, g.segments[s as usize].path.len()));
+        let Some(s) = s else {
+            return Err("a face has no mesh vertex inside and no curve to remove".into());
+        };
+        g.remove(s);
+        return Ok(true);
+    }
+    if let Some(f) = fa.faces.iter().find(|f| f.nodes.len() < 4) {
+        let Some(v) = farthest_boundary_vertex(mesh, g, &fa.of_triangle, f, &fa.faces) else {
+            return Err("a face has fewer than four nodes and no room for more".into());
+        };
+        g.add_node(v, true);
+        return Ok(true);
+    }
+    if let Some(target) = patches {
+        if fa.faces.len() < target {
+            let mut order: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.deepest.is_some()).collect();
+            order.sort_by(|a, b| b.area.total_cmp(&a.area));
+            // A cross of traces splits a face into about four.
+            let count = (target - fa.faces.len()).div_ceil(3).max(1);
+            let seeds: Vec<u32> = order.iter().take(count).filter_map(|f| f.deepest).collect();
+            if !seeds.is_empty() && *seeds_left > 0 {
+                *seeds_left -= 1;
+                let before = g.live().count();
+                seed(mesh, field, g, &seeds, diag);
+                return Ok(g.live().count() != before);
+            }
+        }
+    }
+    Ok(false)
+}
+
+/// Launches a cross of traces (the field's four arms) from each seed vertex.
+fn seed(mesh: &Mesh, field: &CrossField, g: &mut CurveGraph, seeds: &[u32], diag: f64) {
+    let mut moto = Motorcycles::new(mesh, field, owners(mesh, g), MAX_TRACE_LENGTH * diag);
+    for &s in seeds {
+        g.add_node(s, false);
+        moto.owner[s as usize] = BLOCKED;
+        for arm in field.arms(s) {
+            moto.launch(s, arm);
+        }
+    }
+    moto.run();
+    add_traces(g, moto);
+}
+
+/// A vertex on the boundary of face `f` (inside one of its segments, or on the mesh
+/// boundary) as far as possible from the face's nodes.
+fn farthest_boundary_vertex(mesh: &Mesh, g: &CurveGraph, of_triangle: &[u32], f: &FaceInfo, faces: &[FaceInfo]) -> Option<u32> {
+    let fi = faces.iter().position(|x| std::ptr::eq(x, f))? as u32;
+    let mut best: Option<(f64, u32)> = None;
+    let mut consider = |v: u32| {
+        if g.node[v as usize] {
+            return;
+        }
+        let d = f.nodes.iter().map(|&n| norm(sub(mesh.position(n), mesh.position(v)))).fold(f64::INFINITY, f64::min);
+        if best.is_none_or(|b| d > b.0) {
+            best = Some((d, v));
+        }
+    };
+    for &s in &f.segments {
+        let p = &g.segments[s as usize].path;
+        for &v in &p[1..p.len() - 1] {
+            consider(v);
+        }
+    }
+    for v in 0..mesh.n_vertices() as u32 {
+        if g.is_boundary(v) && mesh.outgoing(v).any(|h| mesh.face(h) != NONE && of_triangle[mesh.face(h) as usize] == fi) {
+            consider(v);
+        }
+    }
+    best.map(|b| b.1)
+}
+
+/// Removes the shortest trace among the layout curves `curves` (edges are the live
+/// segments in order; boundary pieces follow them), else among the curves of the faces
+/// those curves bound; false if there is no trace to remove.
+fn remove_trace(g: &mut CurveGraph, surface: Option<&SurfaceLayout>, curves: &[u32]) -> bool {
+    let live: Vec<u32> = g.live().collect();
+    let shortest = |g: &CurveGraph, cs: &mut dyn Iterator<Item = u32>| {
+        cs.filter_map(|k| live.get(k as usize).copied())
+            .filter(|&s| !g.segments[s as usize].feature)
+            .min_by_key(|&s| g.segments[s as usize].path.len())
+    };
+    let mut s = shortest(g, &mut curves.iter().copied());
+    if s.is_none() {
+        if let Some(surface) = surface {
+            let mut around = surface
+                .faces
+                .iter()
+                .filter(|f| f.pieces.iter().any(|d| curves.contains(&d.curve)))
+                .flat_map(|f| f.pieces.iter().map(|d| d.curve));
+            s = shortest(g, &mut around);
+        }
+    }
+    match s {
+        Some(s) => {
+            g.remove(s);
+            true
+        }
+        None => false,
+    }
+}
+
+/// Removes a trace at or next to vertex `v`; false if there is none.
+fn remove_near(mesh: &Mesh, g: &mut CurveGraph, v: u32) -> bool {
+    if v as usize >= mesh.n_vertices() {
+        return false;
+    }
+    let touches = |g: &CurveGraph, s: u32| {
+        let p = &g.segments[s as usize].path;
+        p.contains(&v) || mesh.neighbors(v).any(|u| p.contains(&u))
+    };
+    let s = g
+        .live()
+        .filter(|&s| !g.segments[s as usize].feature && touches(g, s))
+        .min_by_key(|&s| g.segments[s as usize].path.len());
+    match s {
+        Some(s) => {
+            g.remove(s);
+            true
+        }
+        None => false,
+    }
+}
+
+/// Mesh steps along a curve to the point whose direction stands for the curve's at a node.
+const CHORD_STEPS: usize = 4;
+
+/// The four nodes of face `f` where its boundary turns most, counter-clockwise. The turn at a
+/// node is measured between chords along its two curves, in the node's tangent plane.
+fn corners_of(mesh: &Mesh, field: &CrossField, surface: &SurfaceLayout, f: &Face) -> [u32; 4] {
+    let n = f.nodes.len();
+    let chord = |d: &Directed, leaving: bool| -> [f64; 3] {
+        let pts = &surface.curves[d.curve as usize].curve.points;
+        // Leaving along d forwards starts at its first point; arriving, it ends at its last.
+        let from_start = d.forward == leaving;
+        let k = CHORD_STEPS.min((pts.len() - 1) / 2).max(1).min(pts.len() - 1);
+        let (a, b) = if from_start { (&pts[0], &pts[k]) } else { (&pts[pts.len() - 1], &pts[pts.len() - 1 - k]) };
+        sub(curve::position(mesh, b), curve::position(mesh, a))
+    };
+    let mut turn: Vec<(f64, usize)> = (0..n)
+        .map(|k| {
+            let node = f.nodes[k];
+            let v = surface.node_vertex[node as usize];
+            let out = field.frames.angle(v, chord(&f.pieces[k], true));
+            let back = field.frames.angle(v, chord(&f.pieces[(k + n - 1) % n], false));
+            // Counter-clockwise from the leaving curve to the arriving one: the face's angle.
+            ((back - out).rem_euclid(2.0 * PI), k)
+        })
+        .collect();
+    turn.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut ks: Vec<usize> = turn.iter().take(4).map(|t| t.1).collect();
+    ks.sort_unstable();
+    [0, 1, 2, 3].map(|i| f.nodes[ks[i]])
+}
+
+/// Why the layout reader or the sample counts refused a written layout.
+#[derive(Debug)]
+enum Rejected {
+    Layout(LayoutError),
+    Counts(CountError, Box<SurfaceLayout>),
+    /// The parameterization cannot place the triangles at this vertex (curves too close for
+    /// the mesh).
+    Param(u32, ParamError),
+}
+
+impl fmt::Display for Rejected {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Rejected::Layout(e) => write!(f, "{e}"),
+            Rejected::Counts(e, _) => write!(f, "sample counts: {e}"),
+            Rejected::Param(_, e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// The layout file of the graph, checked by the layout reader and the sample-count equations.
+fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph) -> Result<(Layout, SurfaceLayout), Rejected> {
+    let nodes: Vec<u32> = (0..mesh.n_vertices() as u32).filter(|&v| g.node[v as usize]).collect();
+    let mut index = vec![NONE; mesh.n_vertices()];
+    for (i, &v) in nodes.iter().enumerate() {
+        index[v as usize] = i as u32;
+    }
+    let edges: Vec<EdgeSpec> = g
+        .live()
+        .map(|s| {
+            let seg = &g.segments[s as usize];
+            let p = &seg.path;
+            EdgeSpec {
+                nodes: [index[p[0] as usize], index[p[p.len() - 1] as usize]],
+                align: seg.feature,
+                via: p[1..p.len() - 1].iter().map(|&v| Location::Vertex(v as u64)).collect(),
+            }
+        })
+        .collect();
+    let mut layout = Layout {
+        nodes: nodes.iter().map(|&v| Location::Vertex(v as u64)).collect(),
+        edges,
+        default_chart: ChartType::Rect,
+        ..Default::default()
+    };
+    let surface = build_layout(mesh, &layout).map_err(Rejected::Layout)?;
+    // Corners where the face turns most, measured along the curves rather than on their
+    // first mesh edge (a trace zig-zags along edges); faces with a side on a feature line
+    // or the boundary get general quadrilateral charts.
+    for f in &surface.faces {
+        let corners = corners_of(mesh, field, &surface, f);
+        let chart = if f.pieces.iter().any(|d| surface.curves[d.curve as usize].align) { ChartType::Quad } else { ChartType::Rect };
+        layout.patches.push(PatchSpec { corners, chart: Some(chart) });
+    }
+    let surface = build_layout(mesh, &layout).map_err(Rejected::Layout)?;
+    let h = default_edge_length(mesh);
+    // The counts of Section 4 as extraction poses them (one unknown per face and piece),
+    // wished from the curves' lengths; the error names curves.
+    let desires: Vec<Vec<f64>> = surface
+        .faces
+        .iter()
+        .map(|f| f.pieces.iter().map(|d| surface.curves[d.curve as usize].curve.length / h).collect())
+        .collect();
+    let problem = IncidenceCounts::new(&surface, &desires);
+    if let Err(e) = sample_counts(&problem.desired, &problem.equations) {
+        let curve = |i: u32| problem.curve.get(i as usize).copied().unwrap_or(NONE);
+        let e = match e {
+            CountError::Infeasible { pieces_at_one } => {
+                CountError::Infeasible { pieces_at_one: pieces_at_one.into_iter().map(curve).collect() }
+            }
+            CountError::Fractional { piece } => CountError::Fractional { piece: curve(piece) },
+            other => other,
+        };
+        return Err(Rejected::Counts(e, Box::new(surface)));
+    }
+    // The parameterization's own checks of the cut mesh.
+    if let Err(e) = ParamSession::new(mesh, &surface, &ParamOptions::default()) {
+        let v = match e {
+            ParamError::NotNeighbours { vertex, .. } => vertex,
+            ParamError::NodeNotOnFace { node, .. } => surface.node_vertex.get(node as usize).copied().unwrap_or(NONE),
+            _ => NONE,
+        };
+        return Err(Rejected::Param(v, e));
+    }
+    Ok((layout, surface))
+}
