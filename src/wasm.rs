@@ -5,7 +5,8 @@
 use crate::clock::now;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh};
-use crate::layout::{build_layout, curve, parse_layout, SurfaceLayout};
+use crate::field::{compute_field, propose_layout, FieldView, LayoutOptions, ProposeError};
+use crate::layout::{build_layout, curve, parse_layout, write_layout, SurfaceLayout};
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
 use crate::param::{ParamOptions, ParamSession};
@@ -52,6 +53,14 @@ struct RemeshOptions {
     /// Target number of quads instead of `edge_length` (L = √(surface area / quads)); giving
     /// both is an error.
     quads: Option<f64>,
+}
+
+/// Options of [`Session::suggest_layout`] (all optional).
+#[derive(Deserialize, Default)]
+#[serde(default, rename_all = "camelCase")]
+struct SuggestOptions {
+    patches: Option<f64>,
+    feature_angle: Option<f64>,
 }
 
 /// An options object from JS. Its keys are checked first: serde-wasm-bindgen reads only the
@@ -159,6 +168,38 @@ impl Session {
         };
         self.layout = Some(surface);
         to_js(&view)
+    }
+
+    /// Proposes a coarse quad layout from the surface's cross field (`quadlay layout`).
+    /// `options`: `{ patches?: number, featureAngle?: number }` (about how many faces; sharp
+    /// edges bend more than this many degrees, default 35). Returns `{ layout, field }`:
+    /// `layout` the layout file's text (format v1; place it with `setLayout`), `field` the
+    /// cross field for drawing: `directions` (one unit arm per vertex, xyz), and
+    /// `singularityPositions` (xyz) with `singularityValences`. Throws why no valid layout
+    /// could be made.
+    #[wasm_bindgen(js_name = suggestLayout)]
+    pub fn suggest_layout(&self, options: JsValue) -> Result<JsValue, JsError> {
+        let opts = layout_options(options, "suggestLayout", &["patches", "featureAngle"])?;
+        let mesh = &self.loaded.mesh;
+        let p = propose_layout(mesh, &opts).map_err(|e| JsError::new(&e.to_string()))?;
+        #[derive(Serialize)]
+        struct Suggestion {
+            layout: String,
+            field: FieldView,
+        }
+        to_js(&Suggestion { layout: write_layout(&p.layout), field: p.field.view(mesh) })
+    }
+
+    /// The surface's cross field alone, for the page's field view: `options`
+    /// `{ featureAngle?: number }` as for [`suggest_layout`](Self::suggest_layout), whose
+    /// `field` it returns (no layout is made). Throws if the field's solve fails.
+    #[wasm_bindgen(js_name = crossField)]
+    pub fn cross_field(&self, options: JsValue) -> Result<JsValue, JsError> {
+        let opts = layout_options(options, "crossField", &["featureAngle"])?;
+        let mesh = &self.loaded.mesh;
+        let field = compute_field(mesh, opts.feature_angle)
+            .map_err(|e| JsError::new(&ProposeError::Field(e).to_string()))?;
+        to_js(&field.view(mesh))
     }
 
     /// Starts the parameterization of the placed layout: unit charts, every edge aligned,
@@ -424,4 +465,28 @@ impl Session {
     fn param_ref(&self) -> Result<&ParamSession, JsError> {
         self.param.as_ref().map(|r| &r.param).ok_or_else(|| JsError::new("start the parameterization first"))
     }
+}
+
+/// The options of [`Session::suggest_layout`] and [`Session::cross_field`], checked: only the
+/// `known` keys, `patches` a whole number from 1 to 100000, `featureAngle` in (0°, 180°).
+fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<LayoutOptions, JsError> {
+    let o: SuggestOptions = if options.is_undefined() || options.is_null() {
+        SuggestOptions::default()
+    } else {
+        self::options(options, what, known)?
+    };
+    let mut opts = LayoutOptions::default();
+    if let Some(n) = o.patches {
+        if !(1.0..=100_000.0).contains(&n) || n.fract() != 0.0 {
+            return Err(JsError::new(&format!("{what}: patches must be a whole number from 1 to 100000, not {n}")));
+        }
+        opts.patches = Some(n as usize);
+    }
+    if let Some(d) = o.feature_angle {
+        if !(d > 0.0 && d < 180.0) {
+            return Err(JsError::new(&format!("{what}: featureAngle must be between 0 and 180 degrees, not {d}")));
+        }
+        opts.feature_angle = d;
+    }
+    Ok(opts)
 }

@@ -128,6 +128,23 @@ export class CoreClient {
   }
 
   /**
+   * The cross field of the current mesh and its singularities; resolves to the CrossField of
+   * protocol.js.
+   * @param {{featureAngle?: number}} options
+   */
+  crossField(options) {
+    return this.request(MSG.FIELD, { options });
+  }
+
+  /**
+   * Proposes a layout for the current mesh; resolves to { text, field, seconds } (protocol.js).
+   * @param {{patches?: number, featureAngle?: number}} options
+   */
+  suggestLayout(options) {
+    return this.request(MSG.SUGGEST, { options });
+  }
+
+  /**
    * Throws the worker away (requests in flight are rejected with `reason`) and starts a
    * fresh one with the current mesh and layout sent again, so work can go on; its runs are
    * lost. Used to cancel a long solve and after a crash of the core.

@@ -42,12 +42,15 @@
 // kept apart so a script waiting for `result` never gets it), runs, run(), cancel(),
 // compareCharts(), setView(), showRun(), showCharts(), exportFile(), setOptions(); see
 // solve.js's header.
+// The automatic layout card (suggest.js) adds suggestion, suggest(), cancelSuggest(), field,
+// showField(); see its header.
 import { CoreClient } from './client.js';
 import { initDropZone } from './dropzone.js';
 import { boundaryLoopSizes, surfaceArea } from './mesh-measure.js';
 import { Editor } from './editor.js';
 import * as panel from './panel.js';
 import { Solver } from './solve.js';
+import { Suggester } from './suggest.js';
 import { SAMPLES } from './samples.js';
 import { Viewer } from './viewer.js';
 
@@ -76,6 +79,9 @@ let shownSource = null;
 quadlay.editor = editor?.api ?? null;
 // A finished run's faces (curvature, distortion, where a node would help) guide the editing.
 if (solver && editor) solver.onResult = (report) => editor.setGuidance(report?.faces ?? null);
+// The automatic layout card (suggest.js) goes under the Solve card (hidden until a layout is
+// placed), so the Solve button keeps its place in the window.
+if (editor) new Suggester({ client, editor, viewer, quadlay, after: $('solve-card') });
 /** Counts loads, so a load overtaken by a newer one does not overwrite it. */
 let latest = 0;
 

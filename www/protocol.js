@@ -99,4 +99,24 @@ export const MSG = Object.freeze({
    * result: { bytes: ArrayBuffer (transferred), mime: string }
    */
   EXPORT: 'export',
+  /**
+   * The smooth cross field of the current mesh and its singularities, for drawing (issue 22).
+   * args:   { options: { featureAngle?: number — degrees; mesh edges with a larger dihedral
+   *                      angle are sharp features the field follows (default 35) } }
+   * result: CrossField { directions: Float32Array (per vertex, one unit arm of the cross,
+   *           xyz; the others are it turned by 90° about the normal; zero at isolated
+   *           vertices) — transferred,
+   *           singularities: [{ point: [x, y, z] (its triangle's centroid), valence: 3 | 5 | … }] }
+   */
+  FIELD: 'field',
+  /**
+   * Propose a coarse quad layout for the current mesh (the command line's `quadlay layout`).
+   * The worker's placed layout is not changed: the page places the proposal as an edit.
+   * args:   { options: { patches?: number — about this many faces (absent: as the mesh gives
+   *                      them), featureAngle?: number (degrees, default 35) } }
+   * result: { text: string — the layout file (format v1), field: CrossField (the field it was
+   *           made from, as FIELD gives it), seconds: number (in the worker) }
+   * On error: why no valid layout could be made, in words.
+   */
+  SUGGEST: 'suggest-layout',
 });

@@ -75,7 +75,28 @@ const handlers = {
     if (!bytes) throw new Error(`cannot export '${what}'`);
     return { result: { bytes: bytes.buffer, mime }, transfer: [bytes.buffer] };
   },
+  [MSG.FIELD]({ options = {} }) {
+    if (!session) throw new Error('load a mesh first');
+    const field = fieldView(session.crossField(options));
+    return { result: field, transfer: [field.directions.buffer] };
+  },
+  [MSG.SUGGEST]({ options = {} }) {
+    if (!session) throw new Error('load a mesh first');
+    const t0 = performance.now();
+    const { layout, field } = session.suggestLayout(options);
+    const seconds = (performance.now() - t0) / 1000;
+    const view = fieldView(field);
+    return { result: { text: layout, field: view, seconds }, transfer: [view.directions.buffer] };
+  },
 };
+
+/** The core's field view (flat arrays) as protocol.js states CrossField. */
+function fieldView({ directions, singularityPositions: p, singularityValences: valence }) {
+  return {
+    directions: Float32Array.from(directions),
+    singularities: valence.map((v, i) => ({ point: [p[3 * i], p[3 * i + 1], p[3 * i + 2]], valence: v })),
+  };
+}
 
 /**
  * The quad mesh as three.js draws it: shaded (two triangles per quad, smooth normals) and
