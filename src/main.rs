@@ -2,9 +2,10 @@
 //! (one `error:` line on standard error naming the file), 1 anything else.
 
 use quadlay::clock::now;
-use quadlay::io::{read_mesh_with_resources, write_glb, write_gltf, write_obj, write_ply, Polygons};
+use quadlay::io::{read_mesh_with_resources, write_glb, write_gltf, write_obj, write_ply, LoadedMesh, Polygons};
 use quadlay::field::{propose_layout, LayoutOptions, Proposal, ProposeError};
-use quadlay::layout::{build_layout, parse_layout, write_layout, ChartType, Layout, SurfaceLayout};
+use quadlay::layout::{build_layout_on, parse_layout, write_layout, ChartType, Layout, MeshCounts, SurfaceLayout};
+use quadlay::mesh::{repair_mesh, Mesh, RepairOptions};
 use quadlay::param::{input_uv::input_corner_uv, ParamError, ParamOptions, ParamSession};
 use quadlay::quad::{check_edge_length, default_edge_length, QuadError, QuadOptions};
 use quadlay::quote::{printable, quoted};
@@ -35,6 +36,9 @@ const USAGE: &str = "usage:
   quadlay check MESH [--layout LAYOUT]
                               read and validate a mesh (OBJ, PLY, STL, glTF/GLB) and a layout
                               (shared/spec/layout-format.md), print a summary
+  repairs, for check, remesh and layout:
+      --keep-largest          keep only the largest connected component
+      --fill-holes N          close every boundary loop of at most N edges
   quadlay --help | --version";
 
 /// An error and the exit status it means.
@@ -92,8 +96,12 @@ fn run(args: &[String]) -> Result<(), Failure> {
 fn check(args: &[String]) -> Result<(), Failure> {
     let mut mesh_path = None;
     let mut layout_path = None;
+    let mut repairs = RepairOptions::default();
     let mut it = args.iter();
     while let Some(a) = it.next() {
+        if repair_option(a, &mut it, &mut repairs)? {
+            continue;
+        }
         match a.as_str() {
             "--layout" => {
                 let p = it.next().ok_or_else(|| bad_input("--layout needs a file".into()))?;
@@ -105,8 +113,8 @@ fn check(args: &[String]) -> Result<(), Failure> {
         }
     }
     let path = mesh_path.ok_or_else(|| bad_input("check needs a mesh file".into()))?;
-    let loaded = load(path)?;
-    let layout = layout_path.map(|lp| load_layout(&loaded.mesh, lp)).transpose()?;
+    let (loaded, as_read) = load_repaired(path, &repairs)?;
+    let layout = layout_path.map(|lp| place_layout(&loaded.mesh, as_read, lp, read_layout(lp)?)).transpose()?;
     let mut text = format!("mesh:           {path}\n{}", MeshSummary::of(&loaded));
     if let (Some(lp), Some(layout)) = (layout_path, layout) {
         text += &format!("layout:         {lp}\n{}", LayoutSummary::of(&layout));
@@ -114,17 +122,50 @@ fn check(args: &[String]) -> Result<(), Failure> {
     say(&text)
 }
 
-fn load_layout(mesh: &quadlay::mesh::Mesh, path: &str) -> Result<SurfaceLayout, Failure> {
-    place_layout(mesh, path, read_layout(path)?)
-}
-
 fn read_layout(path: &str) -> Result<Layout, Failure> {
     let text = std::fs::read_to_string(path).map_err(|e| bad_input(format!("{path}: cannot read: {e}")))?;
     parse_layout(&text).map_err(|e| bad_input(format!("{path}: {e}")))
 }
 
-fn place_layout(mesh: &quadlay::mesh::Mesh, path: &str, layout: Layout) -> Result<SurfaceLayout, Failure> {
-    build_layout(mesh, &layout).map_err(|e| bad_input(format!("{path}: {e}")))
+/// Places `layout` on `mesh`; its `mesh` entry may name the mesh as read or as repaired.
+fn place_layout(mesh: &Mesh, as_read: MeshCounts, path: &str, layout: Layout) -> Result<SurfaceLayout, Failure> {
+    build_layout_on(mesh, &layout, as_read).map_err(|e| bad_input(format!("{path}: {e}")))
+}
+
+/// Takes `--keep-largest` or `--fill-holes N` (cli.md, "Repairs the user asks for") into
+/// `options`; false when `arg` is neither.
+fn repair_option<'a>(
+    arg: &str,
+    rest: &mut impl Iterator<Item = &'a String>,
+    options: &mut RepairOptions,
+) -> Result<bool, Failure> {
+    match arg {
+        "--keep-largest" => options.keep_largest = true,
+        "--fill-holes" => {
+            let v = rest.next().ok_or_else(|| bad_input("--fill-holes needs a number of edges".into()))?;
+            let n: usize =
+                v.parse().map_err(|_| bad_input(format!("--fill-holes: {} is not a whole number", quoted(v))))?;
+            if n < 3 {
+                return Err(bad_input(format!("--fill-holes: {n} edges make no hole (a hole has at least 3)")));
+            }
+            options.fill_holes = Some(n);
+        }
+        _ => return Ok(false),
+    }
+    Ok(true)
+}
+
+/// Loads the mesh at `path` and makes the repairs asked for; also returns the counts of the
+/// mesh as read, which layouts drawn before the repairs name.
+fn load_repaired(path: &str, options: &RepairOptions) -> Result<(LoadedMesh, MeshCounts), Failure> {
+    let loaded = load(path)?;
+    let as_read = MeshCounts::of(&loaded.mesh);
+    if options.is_none() {
+        return Ok((loaded, as_read));
+    }
+    let (mesh, repairs) = repair_mesh(&loaded.mesh, &loaded.repairs, options)
+        .map_err(|e| bad_input(format!("{path}: the repairs asked for do not give a valid mesh: {e}")))?;
+    Ok((LoadedMesh { mesh, repairs, format: loaded.format }, as_read))
 }
 
 /// The options of `remesh` (cli.md).
@@ -140,6 +181,7 @@ struct RemeshArgs {
     out: Option<String>,
     param_out: Option<String>,
     report: Option<String>,
+    repairs: RepairOptions,
 }
 
 /// The kind of quad mesh file an output name asks for, by its extension.
@@ -167,6 +209,9 @@ fn parse_remesh(args: &[String]) -> Result<RemeshArgs, Failure> {
     let mut r = RemeshArgs::default();
     let mut it = args.iter();
     while let Some(a) = it.next() {
+        if repair_option(a, &mut it, &mut r.repairs)? {
+            continue;
+        }
         let mut value = |name: &str| it.next().cloned().ok_or_else(|| bad_input(format!("{name} needs a value")));
         match a.as_str() {
             "--layout" => r.layout = Some(value("--layout")?),
@@ -243,7 +288,7 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     if a.report.as_deref() == Some("-") && !outputs::stdout_is_open() {
         return Err(Failure { code: 1, message: "--report -: standard output is closed".into() });
     }
-    let loaded = load(mesh_path)?;
+    let (loaded, as_read) = load_repaired(mesh_path, &a.repairs)?;
     let mesh = &loaded.mesh;
     let t_load = now();
     // `--layout auto`: the layout `quadlay layout` proposes, with its defaults.
@@ -252,7 +297,7 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     } else {
         read_layout(layout_path)?
     };
-    let layout = place_layout(mesh, layout_path, layout_file)?;
+    let layout = place_layout(mesh, as_read, layout_path, layout_file)?;
     let edge_length = match (a.edge_length, a.quads) {
         (Some(l), _) => l,
         (None, Some(n)) => edge_length_for_quads(mesh, n),
@@ -286,8 +331,9 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
         parameterize: t_param - t_layout,
         ..Seconds::default()
     };
-    let (quads, report) = extract_and_report(mesh, &layout, &param, &quad_options, earlier)
+    let (quads, mut report) = extract_and_report(mesh, &layout, &param, &quad_options, earlier)
         .map_err(|e: QuadError| bad_input(format!("{layout_path}: {e}")))?;
+    report.input.repairs = loaded.repairs.clone();
 
     // Every file is written before any is renamed, and the report to standard output goes
     // out in between: a run whose report cannot be written leaves no new file.
@@ -354,12 +400,16 @@ struct LayoutArgs {
     mesh: Option<String>,
     out: Option<String>,
     options: LayoutOptions,
+    repairs: RepairOptions,
 }
 
 fn parse_layout_args(args: &[String]) -> Result<LayoutArgs, Failure> {
     let mut r = LayoutArgs::default();
     let mut it = args.iter();
     while let Some(a) = it.next() {
+        if repair_option(a, &mut it, &mut r.repairs)? {
+            continue;
+        }
         let mut value = |name: &str| it.next().cloned().ok_or_else(|| bad_input(format!("{name} needs a value")));
         match a.as_str() {
             "-o" | "--out" => r.out = Some(value("--out")?),
@@ -388,7 +438,7 @@ fn parse_layout_args(args: &[String]) -> Result<LayoutArgs, Failure> {
 }
 
 /// A proposed layout for `mesh` (`quadlay layout`, `remesh --layout auto`).
-fn propose(mesh: &quadlay::mesh::Mesh, mesh_path: &str, options: &LayoutOptions) -> Result<Proposal, Failure> {
+fn propose(mesh: &Mesh, mesh_path: &str, options: &LayoutOptions) -> Result<Proposal, Failure> {
     propose_layout(mesh, options).map_err(|e| {
         let code = if matches!(e, ProposeError::Field(_)) { 1 } else { 2 };
         Failure { code, message: format!("{mesh_path}: {e}") }
@@ -401,7 +451,7 @@ fn layout(args: &[String]) -> Result<(), Failure> {
     let mesh_path = a.mesh.as_deref().ok_or_else(|| bad_input("layout needs a mesh file".into()))?;
     let out = a.out.as_deref().ok_or_else(|| bad_input("layout needs -o LAYOUT.json".into()))?;
     outputs::check_distinct(&[("the input mesh", mesh_path)], &[("--out", out)])?;
-    let loaded = load(mesh_path)?;
+    let (loaded, _) = load_repaired(mesh_path, &a.repairs)?;
     let p = propose(&loaded.mesh, mesh_path, &a.options)?;
     outputs::commit(outputs::stage(vec![(out.to_string(), write_layout(&p.layout).into_bytes())])?)?;
     let s = &p.surface;
@@ -417,7 +467,7 @@ fn layout(args: &[String]) -> Result<(), Failure> {
     ))
 }
 
-fn load(path: &str) -> Result<quadlay::io::LoadedMesh, Failure> {
+fn load(path: &str) -> Result<LoadedMesh, Failure> {
     let bytes = std::fs::read(path).map_err(|e| bad_input(format!("{path}: cannot read: {e}")))?;
     let dir = Path::new(path).parent().map(Path::to_path_buf).unwrap_or_default();
     // glTF may keep its buffers in files beside it; only plain relative names are followed.

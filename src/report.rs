@@ -5,7 +5,7 @@
 
 use crate::clock::now;
 use crate::layout::SurfaceLayout;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, Repairs};
 use crate::param::ParamSession;
 use crate::guidance::{face_distortion, solved_face_guidance, FaceGuidance};
 use crate::geom::{norm, sub};
@@ -21,6 +21,9 @@ use serde::Serialize;
 pub struct InputCounts {
     pub vertices: usize,
     pub triangles: usize,
+    /// The repairs made on the way in (those every load makes and those the user asked for);
+    /// the caller, who loaded the mesh, fills it in.
+    pub repairs: Repairs,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -103,7 +106,7 @@ impl Report {
         let last = param.history().last().map(|h| h.distortion);
         let fin = param.final_distortion().or(last);
         Report {
-            input: InputCounts { vertices: mesh.n_vertices(), triangles: mesh.n_faces() },
+            input: InputCounts { vertices: mesh.n_vertices(), triangles: mesh.n_faces(), repairs: Repairs::default() },
             layout: LayoutCounts {
                 nodes: summary.nodes,
                 edges: summary.edges,

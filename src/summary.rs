@@ -62,14 +62,27 @@ impl fmt::Display for MeshSummary {
         let size: Vec<String> = (0..3).map(|k| format!("{:.6}", hi[k] - lo[k])).collect();
         writeln!(f, "bounding box:   {}", size.join(" x "))?;
         let r = &self.repairs;
-        if r.is_empty() {
-            writeln!(f, "repairs:        none")?;
-        } else {
-            writeln!(
-                f,
-                "repairs:        {} vertices welded, {} zero-area faces removed, {} unreferenced vertices ignored",
+        let mut made = Vec::new();
+        if r.welded_vertices + r.removed_zero_area_faces + r.unreferenced_vertices > 0 {
+            made.push(format!(
+                "{} vertices welded, {} zero-area faces removed, {} unreferenced vertices ignored",
                 r.welded_vertices, r.removed_zero_area_faces, r.unreferenced_vertices
-            )?;
+            ));
+        }
+        if r.removed_components > 0 {
+            made.push(format!(
+                "kept the largest component: {} other components ({} triangles) removed",
+                r.removed_components, r.removed_component_faces
+            ));
+        }
+        if r.filled_holes > 0 {
+            made.push(format!("{} holes filled ({} vertices added)", r.filled_holes, r.fill_vertices));
+        }
+        if made.is_empty() {
+            writeln!(f, "repairs:        none")?;
+        }
+        for line in made {
+            writeln!(f, "repairs:        {line}")?;
         }
         Ok(())
     }

@@ -6,7 +6,8 @@ use crate::clock::now;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh};
 use crate::field::{compute_field, propose_layout, FieldView, LayoutOptions, ProposeError};
-use crate::layout::{build_layout, curve, parse_layout, write_layout, SurfaceLayout};
+use crate::layout::{build_layout_on, curve, parse_layout, write_layout, MeshCounts, SurfaceLayout};
+use crate::mesh::{repair_mesh, RepairOptions};
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
 use crate::param::{ParamOptions, ParamSession};
@@ -24,6 +25,9 @@ use wasm_bindgen::JsCast;
 #[wasm_bindgen]
 pub struct Session {
     loaded: LoadedMesh,
+    /// The mesh's counts as read, before the repairs the user asked for: a layout drawn
+    /// before them names these.
+    as_read: MeshCounts,
     layout: Option<SurfaceLayout>,
     /// The active parameterization and the layout it ran on.
     param: Option<Run>,
@@ -116,11 +120,26 @@ fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
 #[wasm_bindgen]
 impl Session {
     /// Reads a mesh from the bytes of a file; `name` decides the format by its extension.
+    /// `repairs` (optional) asks for the repairs of cli.md: `{ keep_largest: true,
+    /// fill_holes: N }`; the summary lists them.
     #[wasm_bindgen(constructor)]
-    pub fn new(bytes: &[u8], name: &str) -> Result<Session, JsError> {
+    pub fn new(bytes: &[u8], name: &str, repairs: JsValue) -> Result<Session, JsError> {
         let t0 = now();
-        let loaded = read_mesh(bytes, name).map_err(|e| JsError::new(&format!("{name}: {e}")))?;
-        Ok(Session { loaded, layout: None, param: None, kept: Vec::new(), load_seconds: now() - t0, layout_seconds: 0.0 })
+        let asked: RepairOptions = if repairs.is_undefined() || repairs.is_null() {
+            RepairOptions::default()
+        } else {
+            options(repairs, "repairs", &["keep_largest", "fill_holes"])?
+        };
+        let mut loaded = read_mesh(bytes, name).map_err(|e| JsError::new(&format!("{name}: {e}")))?;
+        let as_read = MeshCounts::of(&loaded.mesh);
+        if !asked.is_none() {
+            let (mesh, made) = repair_mesh(&loaded.mesh, &loaded.repairs, &asked).map_err(|e| {
+                JsError::new(&format!("{name}: the repairs asked for do not give a valid mesh: {e}"))
+            })?;
+            loaded = LoadedMesh { mesh, repairs: made, format: loaded.format };
+        }
+        let load_seconds = now() - t0;
+        Ok(Session { loaded, as_read, layout: None, param: None, kept: Vec::new(), load_seconds, layout_seconds: 0.0 })
     }
 
     /// Vertex positions, xyz interleaved, as `Float32Array`.
@@ -148,7 +167,7 @@ impl Session {
         let t0 = now();
         let mesh = &self.loaded.mesh;
         let layout = parse_layout(text).map_err(|e| JsError::new(&e.to_string()))?;
-        let surface = build_layout(mesh, &layout).map_err(|e| JsError::new(&e.to_string()))?;
+        let surface = build_layout_on(mesh, &layout, self.as_read).map_err(|e| JsError::new(&e.to_string()))?;
         self.layout_seconds = now() - t0;
         let curves = surface
             .curves
@@ -369,8 +388,9 @@ impl Session {
         };
         let quad_options = QuadOptions::with_edge_length(edge);
         let earlier = Seconds { load, layout: layout_seconds, parameterize: run.seconds, ..Seconds::default() };
-        let (quads, report) = extract_and_report(mesh, &run.layout, &run.param, &quad_options, earlier)
+        let (quads, mut report) = extract_and_report(mesh, &run.layout, &run.param, &quad_options, earlier)
             .map_err(|e| JsError::new(&e.to_string()))?;
+        report.input.repairs = self.loaded.repairs.clone();
         let out = to_js(&report);
         run.quads = Some((quads, report));
         out

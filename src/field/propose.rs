@@ -23,7 +23,7 @@ use super::trace::{Motorcycles, TraceEnd, BLOCKED};
 use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
-use crate::layout::{build_layout, curve, ChartType, CurveSource, Face, Layout, LayoutError, Location, SurfaceLayout};
+use crate::layout::{build_layout, curve, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout};
 use crate::geom::{norm, sub};
 use crate::mesh::geometry::corner_angles;
 use crate::mesh::topology::topology;
@@ -528,6 +528,8 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph) -> Result<(Layout, Sur
         nodes: nodes.iter().map(|&v| Location::Vertex(v as u64)).collect(),
         edges,
         default_chart: ChartType::Rect,
+        // The identity of the mesh it was made for (layout-format.md, `mesh`).
+        mesh: Some(MeshCounts::of(mesh)),
         ..Default::default()
     };
     let surface = build_layout(mesh, &layout).map_err(Rejected::Layout)?;

@@ -65,7 +65,7 @@ impl WeldedSoup {
         let repairs = crate::mesh::Repairs {
             welded_vertices: self.merged,
             removed_zero_area_faces: self.collapsed,
-            unreferenced_vertices: 0,
+            ..Default::default()
         };
         super::ReadSoup {
             soup: crate::mesh::TriangleSoup {

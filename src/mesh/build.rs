@@ -20,7 +20,9 @@ pub struct TriangleSoup {
     pub repairs: Repairs,
 }
 
-/// Repairs made on the way from file to mesh; none of them changes the surface.
+/// Repairs made on the way from file to mesh. Welding, zero-area faces and unreferenced
+/// vertices never change the surface; dropped components and filled holes are made only when
+/// the user asks ([`RepairOptions`](super::RepairOptions)).
 #[derive(Debug, Clone, Default, PartialEq, Eq, serde::Serialize)]
 pub struct Repairs {
     /// Vertices merged because they had exactly the same coordinates (STL stores no shared
@@ -30,6 +32,13 @@ pub struct Repairs {
     pub removed_zero_area_faces: usize,
     /// Vertices that no face uses; they keep their index and are otherwise ignored.
     pub unreferenced_vertices: usize,
+    /// Connected components dropped because the user kept only the largest
+    /// ([`repair_mesh`](super::repair::repair_mesh)), and their triangles.
+    pub removed_components: usize,
+    pub removed_component_faces: usize,
+    /// Boundary loops closed because the user asked to fill holes, and the vertices added.
+    pub filled_holes: usize,
+    pub fill_vertices: usize,
 }
 
 impl Repairs {

@@ -12,9 +12,11 @@
 pub mod build;
 pub mod geometry;
 pub mod primitives;
+pub mod repair;
 pub mod topology;
 
 pub use build::{build_mesh, BuiltMesh, MeshError, Repairs, TriangleSoup};
+pub use repair::{repair_mesh, RepairOptions};
 
 /// The sentinel handle: no vertex, halfedge, edge or face.
 pub const NONE: u32 = u32::MAX;
