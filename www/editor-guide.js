@@ -8,6 +8,9 @@
 // length_error?, suggestion?: { vertex, at, reason } }.
 import * as L from './layout-doc.js';
 
+/** How many faces that need a node the Layout card lists. */
+const SHOWN = 5;
+
 export class EditorGuide {
   /**
    * @param {import('./editor.js').Editor} ed the editor whose layout is guided
@@ -43,16 +46,26 @@ export class EditorGuide {
     return parts.join(' · ');
   }
 
-  /** The Layout card's rows: one per face, the faces that need a node first. */
+  /**
+   * The Layout card's rows: the faces that hold too much curvature (at most SHOWN of them,
+   * the most first), or one row saying none does; every face's numbers are on hover.
+   */
   rows() {
-    return [...this.faces]
-      .sort((a, b) => Number(b.needs_node) - Number(a.needs_node) || Math.abs(b.curvature_deg) - Math.abs(a.curvature_deg))
-      .map((g) => [
-        `face-${g.face}`,
-        `${g.needs_node ? '⚠ ' : ''}Face ${g.face}`,
-        `${signed(g.curvature_deg)}${Number.isFinite(g.length_error) ? ` · ${(100 * g.length_error).toFixed(1)} %` : ''}`,
-        g.needs_node ? 'warn' : '',
-      ]);
+    if (!this.faces.length) return [];
+    const needy = this.faces.filter((g) => g.needs_node)
+      .sort((a, b) => Math.abs(b.curvature_deg) - Math.abs(a.curvature_deg));
+    if (!needy.length) {
+      const most = Math.max(...this.faces.map((g) => Math.abs(g.curvature_deg)));
+      return [['curvature', 'Curvature', `at most ${signed(most).replace('+', '')} a face`, 'ok']];
+    }
+    const rows = needy.slice(0, SHOWN).map((g) => [
+      `face-${g.face}`,
+      `⚠ Face ${g.face}`,
+      `${signed(g.curvature_deg)}${Number.isFinite(g.length_error) ? ` · ${(100 * g.length_error).toFixed(1)} %` : ''}`,
+      'warn',
+    ]);
+    if (needy.length > SHOWN) rows.push(['more-faces', '…', `${needy.length - SHOWN} more`, '']);
+    return rows;
   }
 
   /** Turns face f's suggestion into a node: an ordinary edit, undone like any other. */

@@ -166,7 +166,7 @@ export class EditorToolbar {
       ['charts', 'Charts', s ? `${s.charts[0]} quad · ${s.charts[1]} rect · ${s.charts[2]} unit` : '—'],
     ];
     const guide = this.ed.guide.rows();
-    if (guide.length) rows.push([null, 'Faces: curvature enclosed · length error']);
+    if (guide.length) rows.push([null, 'Curvature in the faces (beyond 45°: a node inside)']);
     rows.push(...guide);
     dl.replaceChildren(...rows.flatMap(([key, label, value, cls]) => {
       if (key === null) {
