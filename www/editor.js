@@ -59,7 +59,7 @@ export class Editor {
     const view = viewport.getBoundingClientRect();
     const bar = this.toolbar.bar.getBoundingClientRect();
     const status = this.toolbar.status.getBoundingClientRect();
-    viewer.setInsets({ left: bar.right - view.left, bottom: 2 * (view.bottom - status.top) });
+    viewer.setInsets({ left: bar.right - view.left, bottom: view.bottom - status.top });
   }
 
   get mesh() { return this.session.mesh; }
