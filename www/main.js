@@ -116,7 +116,7 @@ async function load(source, { repairs = null, keepLayout = false } = {}) {
       panel.renderLayoutSummary(null);
     }
     panel.hideError();
-    panel.renderSummary(mesh.summary, name);
+    panel.renderSummary(mesh.summary, name, repairsOffered(mesh, repairs));
     panel.markSample(sampleFileOf(source));
     await drawn;
     if (seq !== latest) return null;
