@@ -6,6 +6,7 @@
 //! (`wasm`, built for `wasm32-unknown-unknown`).
 
 pub mod clock;
+pub mod culprits;
 pub mod field;
 pub mod geom;
 pub mod guidance;

@@ -312,7 +312,7 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     options.align = !a.no_align;
     options.default_chart = a.chart;
     let param_failure = |e: ParamError| {
-        let code = if matches!(e, ParamError::Solve(_)) { 1 } else { 2 };
+        let code = if matches!(e, ParamError::Solve(_) | ParamError::NotPositiveDefinite { .. }) { 1 } else { 2 };
         Failure { code, message: format!("{mesh_path} with {layout_path}: {e}") }
     };
     let mut param = ParamSession::new(mesh, &layout, &options).map_err(param_failure)?;

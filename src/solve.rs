@@ -60,7 +60,11 @@ pub enum SolveError {
     /// The numeric factorization met a pivot that is not strictly positive (zero, negative or
     /// NaN): the matrix is not positive definite, or so badly conditioned that rounding made it
     /// look indefinite. The solver is left unfactored.
-    NotPositiveDefinite,
+    NotPositiveDefinite {
+        /// The row and column of that pivot in the caller's numbering (faer's index, taken
+        /// back through the fill-reducing permutation).
+        pivot: usize,
+    },
     /// The pattern given to [`SpdSolver::new`] is unusable: an entry out of range, an entry in
     /// the strict upper triangle, or a column without a diagonal entry. The message names the
     /// offending entry or column.
@@ -110,8 +114,8 @@ pub enum SolveError {
 impl fmt::Display for SolveError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SolveError::NotPositiveDefinite => {
-                write!(f, "sparse Cholesky: the matrix is not positive definite")
+            SolveError::NotPositiveDefinite { pivot } => {
+                write!(f, "sparse Cholesky: the matrix is not positive definite (pivot {pivot})")
             }
             SolveError::BadPattern(msg) => write!(f, "sparse Cholesky: bad pattern: {msg}"),
             SolveError::ValueCountMismatch { expected, got } => write!(
@@ -164,11 +168,21 @@ impl From<FaerError> for SolveError {
     }
 }
 
-impl From<LltError> for SolveError {
-    /// The numeric factorization's only failure: a pivot that is not strictly positive.
-    fn from(e: LltError) -> Self {
-        match e {
-            LltError::NonPositivePivot { .. } => SolveError::NotPositiveDefinite,
+impl SolveError {
+    /// A stable snake_case name of the error, for programs (the page).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            SolveError::NotPositiveDefinite { .. } => "not_positive_definite",
+            SolveError::BadPattern(_) => "bad_pattern",
+            SolveError::ValueCountMismatch { .. } => "value_count_mismatch",
+            SolveError::NonFiniteValue { .. } => "non_finite_value",
+            SolveError::NumericalBreakdown => "numerical_breakdown",
+            SolveError::RhsLengthMismatch { .. } => "rhs_length_mismatch",
+            SolveError::NonFiniteRhs { .. } => "non_finite_rhs",
+            SolveError::NotFactored => "not_factored",
+            SolveError::OutOfMemory => "out_of_memory",
+            SolveError::IndexOverflow => "index_overflow",
+            SolveError::Singular { .. } => "singular",
         }
     }
 }
@@ -384,6 +398,18 @@ impl SpdSolver {
         self.factor_a_values()
     }
 
+    /// The caller's row of faer's failed pivot `index`: faer counts it in the permuted
+    /// order, one-based in a simplicial factorization (its `k + 1`), zero-based in a
+    /// supernodal one.
+    fn caller_index(&self, index: usize) -> usize {
+        let k = match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(_) => index.saturating_sub(1),
+            SymbolicCholeskyRaw::Supernodal(_) => index,
+        }
+        .min(self.n - 1);
+        self.symbolic.perm().map_or(k, |p| p.arrays().0[k] as usize)
+    }
+
     /// Factors the matrix held in `a_values`.
     fn factor_a_values(&mut self) -> Result<(), SolveError> {
         if self.n == 0 {
@@ -391,7 +417,7 @@ impl SpdSolver {
             return Ok(());
         }
         let a = SparseColMatRef::new(self.pattern.as_ref(), &self.a_values);
-        self.symbolic.factorize_numeric_llt::<f64>(
+        let factored = self.symbolic.factorize_numeric_llt::<f64>(
             &mut self.l_values,
             a,
             Side::Lower,
@@ -399,7 +425,10 @@ impl SpdSolver {
             Par::Seq,
             MemStack::new(&mut self.factor_mem),
             Default::default(),
-        )?;
+        );
+        if let Err(LltError::NonPositivePivot { index }) = factored {
+            return Err(SolveError::NotPositiveDefinite { pivot: self.caller_index(index) });
+        }
         // Pivots are checked to be > 0 but overflow can still slip in infinities.
         if self.l_values.iter().any(|v| !v.is_finite()) {
             return Err(SolveError::NumericalBreakdown);
@@ -623,6 +652,28 @@ mod tests {
         (n, entries, values)
     }
 
+    /// The 7-point Laplacian of a w×w×w grid plus the identity, as lower-triangle entries.
+    fn cube_laplacian(w: usize) -> (usize, Vec<(u32, u32)>, Vec<f64>) {
+        let n = w * w * w;
+        let id = |x: usize, y: usize, z: usize| ((z * w + y) * w + x) as u32;
+        let (mut entries, mut values) = (Vec::new(), Vec::new());
+        for z in 0..w {
+            for y in 0..w {
+                for x in 0..w {
+                    entries.push((id(x, y, z), id(x, y, z)));
+                    values.push(7.0);
+                    for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                        if x + dx < w && y + dy < w && z + dz < w {
+                            entries.push((id(x + dx, y + dy, z + dz), id(x, y, z)));
+                            values.push(-1.0);
+                        }
+                    }
+                }
+            }
+        }
+        (n, entries, values)
+    }
+
     /// y = A x for the symmetric matrix given by lower-triangle entries (duplicates summed).
     fn sym_matvec(n: usize, entries: &[(u32, u32)], values: &[f64], x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; n];
@@ -772,16 +823,33 @@ mod tests {
     }
 
     #[test]
+    fn not_positive_definite_names_the_pivot_in_the_callers_numbering() {
+        // One negative diagonal entry: the pivots eliminated before it belong to an SPD
+        // principal submatrix, so the factorization fails exactly there, whatever the
+        // ordering. Plane grids factor simplicially, a cube's (more fill) supernodally.
+        let mut paths = [false; 2];
+        let cases = [(grid_laplacian(4, 4, 0.0), 5), (grid_laplacian(100, 100, 0.0), 4321), (cube_laplacian(16), 2345), (cube_laplacian(16), 4095)];
+        for ((n, entries, mut values), k) in cases {
+            let diagonal = entries.iter().position(|&e| e == (k as u32, k as u32)).unwrap();
+            values[diagonal] = -1e3;
+            let mut s = SpdSolver::new(n, &entries).unwrap();
+            assert_eq!(s.factor(&values), Err(SolveError::NotPositiveDefinite { pivot: k }), "n = {n}");
+            paths[matches!(s.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_)) as usize] = true;
+        }
+        assert_eq!(paths, [true, true], "both factorizations (simplicial, supernodal) tried");
+    }
+
+    #[test]
     fn not_positive_definite_is_an_error_not_a_panic() {
         // [[1, 2], [2, 1]] has eigenvalues 3 and -1.
         let mut s = SpdSolver::new(2, &[(0, 0), (1, 0), (1, 1)]).unwrap();
-        assert_eq!(s.factor(&[1.0, 2.0, 1.0]), Err(SolveError::NotPositiveDefinite));
+        assert!(matches!(s.factor(&[1.0, 2.0, 1.0]), Err(SolveError::NotPositiveDefinite { .. })));
         assert!(!s.is_factored());
         assert_eq!(s.solve_in_place(&mut [1.0, 1.0]), Err(SolveError::NotFactored));
         // Negative definite diagonal.
-        assert_eq!(s.factor(&[-1.0, 0.0, -1.0]), Err(SolveError::NotPositiveDefinite));
+        assert!(matches!(s.factor(&[-1.0, 0.0, -1.0]), Err(SolveError::NotPositiveDefinite { .. })));
         // Singular (zero pivot).
-        assert_eq!(s.factor(&[1.0, 1.0, 1.0]), Err(SolveError::NotPositiveDefinite));
+        assert!(matches!(s.factor(&[1.0, 1.0, 1.0]), Err(SolveError::NotPositiveDefinite { .. })));
         // Recovers with valid values.
         s.factor(&[2.0, 1.0, 2.0]).unwrap();
         let mut b = [3.0, 3.0];
@@ -792,7 +860,7 @@ mod tests {
         // exercises whatever path (simplicial/supernodal) faer picked for it.
         let (n, entries, values) = grid_laplacian(100, 100, -1.0);
         let mut s = SpdSolver::new(n, &entries).unwrap();
-        assert_eq!(s.factor(&values), Err(SolveError::NotPositiveDefinite));
+        assert!(matches!(s.factor(&values), Err(SolveError::NotPositiveDefinite { .. })));
         let (_, _, values) = grid_laplacian(100, 100, 0.0);
         s.factor(&values).unwrap();
     }

@@ -1,20 +1,22 @@
 //! The browser's door to the core: the only file that knows about wasm-bindgen. A
 //! [`Session`] lives in the page's worker and keeps state between messages; data crosses as
-//! typed arrays, summaries as plain JS objects, errors as JS `Error`s with readable text.
+//! typed arrays, summaries as plain JS objects, errors as JS `Error`s that carry what they
+//! are about as data besides their readable text ([`Thrown`]).
 
 use crate::clock::now;
+use crate::culprits::Culprits;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
-use crate::io::{read_mesh, LoadedMesh};
+use crate::io::{read_mesh, LoadedMesh, ReadError};
 use crate::field::{compute_field, propose_layout, FieldView, LayoutOptions, ProposeError};
-use crate::layout::{build_layout_on, curve, parse_layout, write_layout, MeshCounts, SurfaceLayout};
+use crate::layout::{build_layout_on, curve, parse_layout, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, SurfaceLayout};
 use crate::mesh::{repair_mesh, RepairOptions};
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
-use crate::param::{ParamOptions, ParamSession};
+use crate::param::{ParamError, ParamOptions, ParamSession};
 use crate::guidance::{face_distortion, face_guidance, solved_face_guidance, FaceGuidance};
 use crate::quad::density::{edge_length_for_quads, face_areas};
 use crate::verdict::distorted_faces;
-use crate::quad::{default_edge_length, QuadMesh, QuadOptions};
+use crate::quad::{default_edge_length, QuadError, QuadMesh, QuadOptions};
 use crate::quote::{quoted, quoted_in};
 use crate::report::{extract_and_report, Report, Seconds};
 use crate::summary::{LayoutSummary, MeshSummary};
@@ -59,6 +61,67 @@ struct RemeshOptions {
     quads: Option<f64>,
 }
 
+/// An error for JS, thrown as an `Error` whose `message` is for people, `kind` a stable
+/// snake_case name and `culprits` what it names ([`Culprits`], plain numbers): the page reads
+/// those, never the message (www/protocol.js).
+pub struct Thrown {
+    message: String,
+    kind: &'static str,
+    culprits: Culprits,
+}
+
+impl Thrown {
+    /// An error that names nothing.
+    fn new(kind: &'static str, message: impl Into<String>) -> Thrown {
+        Thrown { message: message.into(), kind, culprits: Culprits::none() }
+    }
+
+    /// Asked for something that needs an active parameterization.
+    fn no_param() -> Thrown {
+        Thrown::new("no_param", "start the parameterization first")
+    }
+}
+
+impl From<Thrown> for JsValue {
+    fn from(t: Thrown) -> JsValue {
+        let error = js_sys::Error::new(&t.message);
+        let serializer = serde_wasm_bindgen::Serializer::json_compatible();
+        let culprits = t.culprits.serialize(&serializer).unwrap_or(JsValue::NULL);
+        // Setting a property of a fresh Error cannot fail.
+        let _ = js_sys::Reflect::set(&error, &"kind".into(), &t.kind.into());
+        let _ = js_sys::Reflect::set(&error, &"culprits".into(), &culprits);
+        error.into()
+    }
+}
+
+impl From<LayoutFileError> for Thrown {
+    fn from(e: LayoutFileError) -> Thrown {
+        Thrown { message: e.to_string(), kind: e.kind(), culprits: e.culprits() }
+    }
+}
+
+impl From<ParamError> for Thrown {
+    fn from(e: ParamError) -> Thrown {
+        Thrown { message: e.to_string(), kind: e.kind(), culprits: e.culprits() }
+    }
+}
+
+impl From<QuadError> for Thrown {
+    fn from(e: QuadError) -> Thrown {
+        Thrown { message: e.to_string(), kind: e.kind(), culprits: e.culprits() }
+    }
+}
+
+/// A layout's error, with what it names in `layout`, the file it is about.
+fn layout_error(e: LayoutError, layout: &Layout) -> Thrown {
+    Thrown { message: e.to_string(), kind: e.kind(), culprits: e.culprits(layout) }
+}
+
+/// A mesh file's error; the message starts with the file's name.
+fn read_error(e: ReadError, name: &str) -> Thrown {
+    Thrown::new(e.kind(), format!("{name}: {e}"))
+}
+
 /// Options of [`Session::suggest_layout`] (all optional).
 #[derive(Deserialize, Default)]
 #[serde(default, rename_all = "camelCase")]
@@ -70,16 +133,16 @@ struct SuggestOptions {
 /// An options object from JS. Its keys are checked first: serde-wasm-bindgen reads only the
 /// fields it knows (`deny_unknown_fields` never sees the others), so a misspelled option
 /// (`edgeLength`) would be ignored without a word.
-fn options<T: serde::de::DeserializeOwned>(value: JsValue, what: &str, known: &[&str]) -> Result<T, JsError> {
+fn options<T: serde::de::DeserializeOwned>(value: JsValue, what: &str, known: &[&str]) -> Result<T, Thrown> {
     if value.is_object() {
         for key in js_sys::Object::keys(value.unchecked_ref::<js_sys::Object>()).iter() {
             let key = key.as_string().unwrap_or_default();
             if !known.contains(&key.as_str()) {
-                return Err(JsError::new(&format!("{what}: unknown option {} (known: {})", quoted_in(&key, '`'), known.join(", "))));
+                return Err(Thrown::new("bad_options", format!("{what}: unknown option {} (known: {})", quoted_in(&key, '`'), known.join(", "))));
             }
         }
     }
-    serde_wasm_bindgen::from_value(value).map_err(|e| JsError::new(&format!("{what}: {e}")))
+    serde_wasm_bindgen::from_value(value).map_err(|e| Thrown::new("bad_options", format!("{what}: {e}")))
 }
 
 /// A face's chart as the page draws it (paper Fig. 9).
@@ -90,10 +153,19 @@ struct ChartView {
     corners: [[f64; 2]; 4],
 }
 
+/// Where a curve comes from, tagged: `{ edge: i }` (a file edge) or `{ boundary: l }` (a
+/// piece of boundary loop l).
+#[derive(Serialize)]
+#[serde(rename_all = "snake_case")]
+enum SourceView {
+    Edge(usize),
+    Boundary(usize),
+}
+
 /// A layout curve as the page draws it.
 #[derive(Serialize)]
 struct CurveView {
-    source: String,
+    source: SourceView,
     align: bool,
     nodes: [u32; 2],
     /// xyz interleaved.
@@ -111,10 +183,10 @@ struct LayoutView {
     faces: Vec<FaceGuidance>,
 }
 
-fn to_js<T: Serialize>(value: &T) -> Result<JsValue, JsError> {
+fn to_js<T: Serialize>(value: &T) -> Result<JsValue, Thrown> {
     value
         .serialize(&serde_wasm_bindgen::Serializer::json_compatible())
-        .map_err(|e| JsError::new(&e.to_string()))
+        .map_err(|e| Thrown::new("internal", e.to_string()))
 }
 
 #[wasm_bindgen]
@@ -123,18 +195,18 @@ impl Session {
     /// `repairs` (optional) asks for the repairs of cli.md: `{ keep_largest: true,
     /// fill_holes: N }`; the summary lists them.
     #[wasm_bindgen(constructor)]
-    pub fn new(bytes: &[u8], name: &str, repairs: JsValue) -> Result<Session, JsError> {
+    pub fn new(bytes: &[u8], name: &str, repairs: JsValue) -> Result<Session, Thrown> {
         let t0 = now();
         let asked: RepairOptions = if repairs.is_undefined() || repairs.is_null() {
             RepairOptions::default()
         } else {
             options(repairs, "repairs", &["keep_largest", "fill_holes"])?
         };
-        let mut loaded = read_mesh(bytes, name).map_err(|e| JsError::new(&format!("{name}: {e}")))?;
+        let mut loaded = read_mesh(bytes, name).map_err(|e| read_error(e, name))?;
         let as_read = MeshCounts::of(&loaded.mesh);
         if !asked.is_none() {
             let (mesh, made) = repair_mesh(&loaded.mesh, &loaded.repairs, &asked).map_err(|e| {
-                JsError::new(&format!("{name}: the repairs asked for do not give a valid mesh: {e}"))
+                Thrown::new("bad_repair", format!("{name}: the repairs asked for do not give a valid mesh: {e}"))
             })?;
             loaded = LoadedMesh { mesh, repairs: made, format: loaded.format };
         }
@@ -153,27 +225,30 @@ impl Session {
     }
 
     /// The summary `quadlay check` prints, as an object.
-    pub fn summary(&self) -> Result<JsValue, JsError> {
+    pub fn summary(&self) -> Result<JsValue, Thrown> {
         to_js(&MeshSummary::of(&self.loaded))
     }
 
     /// Places a layout file (format v1, as text) on the mesh. Returns its summary, the
     /// curves as polylines and the face of every vertex; throws the layout's error.
     #[wasm_bindgen(js_name = setLayout)]
-    pub fn set_layout(&mut self, text: &str) -> Result<JsValue, JsError> {
+    pub fn set_layout(&mut self, text: &str) -> Result<JsValue, Thrown> {
         self.layout = None;
         self.param = None;
         self.kept.clear();
         let t0 = now();
         let mesh = &self.loaded.mesh;
-        let layout = parse_layout(text).map_err(|e| JsError::new(&e.to_string()))?;
-        let surface = build_layout_on(mesh, &layout, self.as_read).map_err(|e| JsError::new(&e.to_string()))?;
+        let layout = parse_layout(text)?;
+        let surface = build_layout_on(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
         self.layout_seconds = now() - t0;
         let curves = surface
             .curves
             .iter()
             .map(|c| CurveView {
-                source: c.source.to_string(),
+                source: match c.source {
+                    CurveSource::Edge(i) => SourceView::Edge(i),
+                    CurveSource::Boundary { boundary_loop } => SourceView::Boundary(boundary_loop),
+                },
                 align: c.align,
                 nodes: c.nodes,
                 points: c.curve.points.iter().flat_map(|p| curve::position(mesh, p).map(|x| x as f32)).collect(),
@@ -197,10 +272,10 @@ impl Session {
     /// `singularityPositions` (xyz) with `singularityValences`. Throws why no valid layout
     /// could be made.
     #[wasm_bindgen(js_name = suggestLayout)]
-    pub fn suggest_layout(&self, options: JsValue) -> Result<JsValue, JsError> {
+    pub fn suggest_layout(&self, options: JsValue) -> Result<JsValue, Thrown> {
         let opts = layout_options(options, "suggestLayout", &["patches", "featureAngle"])?;
         let mesh = &self.loaded.mesh;
-        let p = propose_layout(mesh, &opts).map_err(|e| JsError::new(&e.to_string()))?;
+        let p = propose_layout(mesh, &opts).map_err(|e| Thrown::new("no_layout_proposed", e.to_string()))?;
         #[derive(Serialize)]
         struct Suggestion {
             layout: String,
@@ -213,11 +288,11 @@ impl Session {
     /// `{ featureAngle?: number }` as for [`suggest_layout`](Self::suggest_layout), whose
     /// `field` it returns (no layout is made). Throws if the field's solve fails.
     #[wasm_bindgen(js_name = crossField)]
-    pub fn cross_field(&self, options: JsValue) -> Result<JsValue, JsError> {
+    pub fn cross_field(&self, options: JsValue) -> Result<JsValue, Thrown> {
         let opts = layout_options(options, "crossField", &["featureAngle"])?;
         let mesh = &self.loaded.mesh;
         let field = compute_field(mesh, opts.feature_angle)
-            .map_err(|e| JsError::new(&ProposeError::Field(e).to_string()))?;
+            .map_err(|e| Thrown::new("solver", ProposeError::Field(e).to_string()))?;
         to_js(&field.view(mesh))
     }
 
@@ -227,7 +302,7 @@ impl Session {
     /// chart?: "quad" | "rect" | "unit" | null }` (`chart` replaces the layout's default
     /// chart type; faces with a chart in `patches` keep theirs).
     #[wasm_bindgen(js_name = startParam)]
-    pub fn start_param(&mut self, options: JsValue) -> Result<JsValue, JsError> {
+    pub fn start_param(&mut self, options: JsValue) -> Result<JsValue, Thrown> {
         self.param = None;
         let options: ParamOptions = if let Some(align) = options.as_bool() {
             let mut o = ParamOptions::DEFAULT;
@@ -238,8 +313,8 @@ impl Session {
         } else {
             self::options(options, "solve options", &ParamOptions::KEYS)?
         };
-        let layout = self.layout.clone().ok_or_else(|| JsError::new("place a layout first"))?;
-        let param = ParamSession::new(&self.loaded.mesh, &layout, &options).map_err(|e| JsError::new(&e.to_string()))?;
+        let layout = self.layout.clone().ok_or_else(|| Thrown::new("no_layout", "place a layout first"))?;
+        let param = ParamSession::new(&self.loaded.mesh, &layout, &options)?;
         let first = param.history()[0];
         self.param = Some(Run { layout, seconds: first.seconds, param, quads: None });
         to_js(&first)
@@ -247,10 +322,10 @@ impl Session {
 
     /// One chart-optimization iteration (paper 3.1); returns its statistics.
     #[wasm_bindgen(js_name = stepParam)]
-    pub fn step_param(&mut self) -> Result<JsValue, JsError> {
+    pub fn step_param(&mut self) -> Result<JsValue, Thrown> {
         let run = self.run_mut()?;
         run.quads = None;
-        let stats = run.param.step().map_err(|e| JsError::new(&e.to_string()))?;
+        let stats = run.param.step()?;
         run.seconds += stats.seconds;
         to_js(&stats)
     }
@@ -258,11 +333,11 @@ impl Session {
 
     /// The final solve with the user's alignment tags; returns its distortion.
     #[wasm_bindgen(js_name = finishParam)]
-    pub fn finish_param(&mut self) -> Result<JsValue, JsError> {
+    pub fn finish_param(&mut self) -> Result<JsValue, Thrown> {
         let run = self.run_mut()?;
         run.quads = None;
         let t0 = now();
-        let d = run.param.finish().map_err(|e| JsError::new(&e.to_string()))?;
+        let d = run.param.finish()?;
         run.seconds += now() - t0;
         to_js(&d)
     }
@@ -270,32 +345,32 @@ impl Session {
 
     /// The refined (cut) mesh's vertex positions, xyz interleaved, as `Float32Array`.
     #[wasm_bindgen(js_name = cutPositions)]
-    pub fn cut_positions(&self) -> Result<Vec<f32>, JsError> {
+    pub fn cut_positions(&self) -> Result<Vec<f32>, Thrown> {
         Ok(self.param_ref()?.cut().positions.iter().flat_map(|p| p.map(|c| c as f32)).collect())
     }
 
     /// The refined mesh's triangles (vertex index triples), as `Uint32Array`.
     #[wasm_bindgen(js_name = cutTriangles)]
-    pub fn cut_triangles(&self) -> Result<Vec<u32>, JsError> {
+    pub fn cut_triangles(&self) -> Result<Vec<u32>, Thrown> {
         Ok(self.param_ref()?.cut().triangles.iter().flatten().copied().collect())
     }
 
     /// The layout face (chart) of every refined triangle, as `Uint32Array`.
     #[wasm_bindgen(js_name = triangleFace)]
-    pub fn triangle_face(&self) -> Result<Vec<u32>, JsError> {
+    pub fn triangle_face(&self) -> Result<Vec<u32>, Thrown> {
         Ok(self.param_ref()?.cut().triangle_face.clone())
     }
 
     /// The latest solution: per refined triangle, its three corners' uv in its face's
     /// chart (u0 v0 u1 v1 u2 v2), as `Float32Array`.
     #[wasm_bindgen(js_name = cornerUv)]
-    pub fn corner_uv(&self) -> Result<Vec<f32>, JsError> {
+    pub fn corner_uv(&self) -> Result<Vec<f32>, Thrown> {
         Ok(self.param_ref()?.solution().corner_uv.iter().flatten().flat_map(|u| u.map(|c| c as f32)).collect())
     }
 
     /// ‖JᵀJ − I‖²_F of every refined triangle in the latest solution, as `Float32Array`.
     #[wasm_bindgen(js_name = triangleDistortion)]
-    pub fn triangle_distortion(&self) -> Result<Vec<f32>, JsError> {
+    pub fn triangle_distortion(&self) -> Result<Vec<f32>, Thrown> {
         Ok(self.param_ref()?.triangle_distortion().into_iter().map(|d| d as f32).collect())
     }
 
@@ -304,8 +379,8 @@ impl Session {
     /// where one would help (the report's `faces`; see `guidance.rs`). Faces far more
     /// distorted than the others are judged at the default edge length.
     #[wasm_bindgen(js_name = faceGuidance)]
-    pub fn face_guidance(&self) -> Result<JsValue, JsError> {
-        let run = self.param.as_ref().ok_or_else(|| JsError::new("start the parameterization first"))?;
+    pub fn face_guidance(&self) -> Result<JsValue, Thrown> {
+        let run = self.param.as_ref().ok_or_else(Thrown::no_param)?;
         let mesh = &self.loaded.mesh;
         let faces = run.layout.faces.len();
         let measured = face_distortion(&run.param, faces);
@@ -316,7 +391,7 @@ impl Session {
 
     /// Every face's chart: `[{ kind: "quad" | "rect" | "unit", corners: [[u, v] × 4] }]`.
     #[wasm_bindgen(js_name = paramCharts)]
-    pub fn param_charts(&self) -> Result<JsValue, JsError> {
+    pub fn param_charts(&self) -> Result<JsValue, Thrown> {
         let charts: Vec<ChartView> = self
             .param_ref()?
             .charts()
@@ -335,7 +410,7 @@ impl Session {
 
     /// The iteration history so far (0 = the initial solve), as the report's `iterations`.
     #[wasm_bindgen(js_name = paramHistory)]
-    pub fn param_history(&self) -> Result<JsValue, JsError> {
+    pub fn param_history(&self) -> Result<JsValue, Thrown> {
         to_js(&self.param_ref()?.history())
     }
 
@@ -343,8 +418,8 @@ impl Session {
     /// chart its triangle is parameterized in), as OBJ bytes: the file of the command
     /// line's `--param-out`.
     #[wasm_bindgen(js_name = paramObj)]
-    pub fn param_obj(&self) -> Result<Vec<u8>, JsError> {
-        let run = self.param.as_ref().ok_or_else(|| JsError::new("start the parameterization first"))?;
+    pub fn param_obj(&self) -> Result<Vec<u8>, Thrown> {
+        let run = self.param.as_ref().ok_or_else(Thrown::no_param)?;
         let mesh = &self.loaded.mesh;
         let uv: Vec<[f64; 2]> = input_corner_uv(mesh, &run.layout, &run.param).into_iter().flatten().collect();
         let tris: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
@@ -354,7 +429,7 @@ impl Session {
     /// The mesh refined along the layout curves (every triangle in one chart) with one `vt`
     /// per triangle corner, as OBJ bytes.
     #[wasm_bindgen(js_name = cutObj)]
-    pub fn cut_obj(&self) -> Result<Vec<u8>, JsError> {
+    pub fn cut_obj(&self) -> Result<Vec<u8>, Thrown> {
         let p = self.param_ref()?;
         let cut = p.cut();
         let faces: Vec<u32> = cut.triangles.iter().flatten().copied().collect();
@@ -369,7 +444,7 @@ impl Session {
     /// read with [`quad_positions`](Self::quad_positions) and
     /// [`quad_indices`](Self::quad_indices). Uses the final solve if it ran, else the latest
     /// iteration.
-    pub fn remesh(&mut self, options: JsValue) -> Result<JsValue, JsError> {
+    pub fn remesh(&mut self, options: JsValue) -> Result<JsValue, Thrown> {
         let opts: RemeshOptions = if options.is_undefined() || options.is_null() {
             RemeshOptions::default()
         } else {
@@ -377,19 +452,18 @@ impl Session {
         };
         let mesh = &self.loaded.mesh;
         let (load, layout_seconds) = (self.load_seconds, self.layout_seconds);
-        let run = self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))?;
+        let run = self.param.as_mut().ok_or_else(Thrown::no_param)?;
         run.quads = None;
         let edge = match (opts.edge_length, opts.quads) {
-            (Some(_), Some(_)) => return Err(JsError::new("remesh options: give edge_length or quads, not both")),
+            (Some(_), Some(_)) => return Err(Thrown::new("bad_options", "remesh options: give edge_length or quads, not both")),
             (Some(l), None) => l,
             (None, Some(n)) if n >= 1.0 && n.is_finite() => edge_length_for_quads(mesh, n),
-            (None, Some(n)) => return Err(JsError::new(&format!("remesh options: quads must be at least 1, not {n}"))),
+            (None, Some(n)) => return Err(Thrown::new("bad_options", format!("remesh options: quads must be at least 1, not {n}"))),
             (None, None) => default_edge_length(mesh),
         };
         let quad_options = QuadOptions::with_edge_length(edge);
         let earlier = Seconds { load, layout: layout_seconds, parameterize: run.seconds, ..Seconds::default() };
-        let (quads, mut report) = extract_and_report(mesh, &run.layout, &run.param, &quad_options, earlier)
-            .map_err(|e| JsError::new(&e.to_string()))?;
+        let (quads, mut report) = extract_and_report(mesh, &run.layout, &run.param, &quad_options, earlier)?;
         report.input.repairs = self.loaded.repairs.clone();
         let out = to_js(&report);
         run.quads = Some((quads, report));
@@ -398,28 +472,28 @@ impl Session {
 
     /// The last quad mesh's vertex positions, xyz interleaved, as `Float32Array`.
     #[wasm_bindgen(js_name = quadPositions)]
-    pub fn quad_positions(&self) -> Result<Vec<f32>, JsError> {
+    pub fn quad_positions(&self) -> Result<Vec<f32>, Thrown> {
         Ok(self.quads()?.positions.iter().flat_map(|p| p.map(|c| c as f32)).collect())
     }
 
     /// The last quad mesh's quads, four vertex indices each (counter-clockwise seen from
     /// outside), as `Uint32Array`.
     #[wasm_bindgen(js_name = quadIndices)]
-    pub fn quad_indices(&self) -> Result<Vec<u32>, JsError> {
+    pub fn quad_indices(&self) -> Result<Vec<u32>, Thrown> {
         Ok(self.quads()?.quads.iter().flatten().copied().collect())
     }
 
     /// The last report of [`remesh`](Self::remesh) of the active run.
     #[wasm_bindgen(js_name = quadReport)]
-    pub fn quad_report(&self) -> Result<JsValue, JsError> {
-        let run = self.param.as_ref().ok_or_else(|| JsError::new("start the parameterization first"))?;
-        to_js(&run.quads.as_ref().ok_or_else(|| JsError::new("remesh first"))?.1)
+    pub fn quad_report(&self) -> Result<JsValue, Thrown> {
+        let run = self.param.as_ref().ok_or_else(Thrown::no_param)?;
+        to_js(&run.quads.as_ref().ok_or_else(|| Thrown::new("no_quads", "remesh first"))?.1)
     }
 
     /// The last quad mesh as a file: `format` is "obj" or "ply" (quads kept) or "glb" (each
     /// quad split in two triangles).
     #[wasm_bindgen(js_name = quadFile)]
-    pub fn quad_file(&self, format: &str) -> Result<Vec<u8>, JsError> {
+    pub fn quad_file(&self, format: &str) -> Result<Vec<u8>, Thrown> {
         let q = self.quads()?;
         let faces: Vec<u32> = q.quads.iter().flatten().copied().collect();
         let polygons = Polygons { positions: &q.positions, faces: &faces, arity: 4 };
@@ -427,7 +501,7 @@ impl Session {
             "obj" => Ok(write_obj(polygons, None)),
             "ply" => Ok(write_ply(polygons)),
             "glb" => Ok(write_glb(polygons)),
-            _ => Err(JsError::new(&format!("unknown quad mesh format {} (obj, ply or glb)", quoted(format)))),
+            _ => Err(Thrown::new("bad_options", format!("unknown quad mesh format {} (obj, ply or glb)", quoted(format)))),
         }
     }
 
@@ -435,12 +509,12 @@ impl Session {
     /// numeric factorizations: `{ assembly, symbolic, factor, solve, chart_optimization,
     /// factorizations }` (for benchmarks).
     #[wasm_bindgen(js_name = paramStages)]
-    pub fn param_stages(&self) -> Result<JsValue, JsError> {
+    pub fn param_stages(&self) -> Result<JsValue, Thrown> {
         to_js(&self.param_ref()?.stage_times())
     }
 
     /// Seconds spent reading the mesh and placing the current layout: `{ load, layout }`.
-    pub fn seconds(&self) -> Result<JsValue, JsError> {
+    pub fn seconds(&self) -> Result<JsValue, Thrown> {
         #[derive(Serialize)]
         struct S {
             load: f64,
@@ -452,8 +526,8 @@ impl Session {
     /// Puts the active parameterization aside under `name` (replacing one of that name), so
     /// several runs (e.g. unit, rect and quad charts) can be kept and switched between.
     #[wasm_bindgen(js_name = keepParam)]
-    pub fn keep_param(&mut self, name: &str) -> Result<(), JsError> {
-        let run = self.param.take().ok_or_else(|| JsError::new("no parameterization to keep"))?;
+    pub fn keep_param(&mut self, name: &str) -> Result<(), Thrown> {
+        let run = self.param.take().ok_or_else(|| Thrown::new("no_param", "no parameterization to keep"))?;
         self.kept.retain(|(n, _)| n != name);
         self.kept.push((name.to_string(), run));
         Ok(())
@@ -475,21 +549,21 @@ impl Session {
 }
 
 impl Session {
-    fn quads(&self) -> Result<&QuadMesh, JsError> {
-        let run = self.param.as_ref().ok_or_else(|| JsError::new("start the parameterization first"))?;
-        run.quads.as_ref().map(|(q, _)| q).ok_or_else(|| JsError::new("remesh first"))
+    fn quads(&self) -> Result<&QuadMesh, Thrown> {
+        let run = self.param.as_ref().ok_or_else(Thrown::no_param)?;
+        run.quads.as_ref().map(|(q, _)| q).ok_or_else(|| Thrown::new("no_quads", "remesh first"))
     }
-    fn run_mut(&mut self) -> Result<&mut Run, JsError> {
-        self.param.as_mut().ok_or_else(|| JsError::new("start the parameterization first"))
+    fn run_mut(&mut self) -> Result<&mut Run, Thrown> {
+        self.param.as_mut().ok_or_else(Thrown::no_param)
     }
-    fn param_ref(&self) -> Result<&ParamSession, JsError> {
-        self.param.as_ref().map(|r| &r.param).ok_or_else(|| JsError::new("start the parameterization first"))
+    fn param_ref(&self) -> Result<&ParamSession, Thrown> {
+        self.param.as_ref().map(|r| &r.param).ok_or_else(Thrown::no_param)
     }
 }
 
 /// The options of [`Session::suggest_layout`] and [`Session::cross_field`], checked: only the
 /// `known` keys, `patches` a whole number from 1 to 100000, `featureAngle` in (0°, 180°).
-fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<LayoutOptions, JsError> {
+fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<LayoutOptions, Thrown> {
     let o: SuggestOptions = if options.is_undefined() || options.is_null() {
         SuggestOptions::default()
     } else {
@@ -498,13 +572,13 @@ fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<Layout
     let mut opts = LayoutOptions::default();
     if let Some(n) = o.patches {
         if !(1.0..=100_000.0).contains(&n) || n.fract() != 0.0 {
-            return Err(JsError::new(&format!("{what}: patches must be a whole number from 1 to 100000, not {n}")));
+            return Err(Thrown::new("bad_options", format!("{what}: patches must be a whole number from 1 to 100000, not {n}")));
         }
         opts.patches = Some(n as usize);
     }
     if let Some(d) = o.feature_angle {
         if !(d > 0.0 && d < 180.0) {
-            return Err(JsError::new(&format!("{what}: featureAngle must be between 0 and 180 degrees, not {d}")));
+            return Err(Thrown::new("bad_options", format!("{what}: featureAngle must be between 0 and 180 degrees, not {d}")));
         }
         opts.feature_angle = d;
     }

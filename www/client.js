@@ -2,12 +2,17 @@
 // gets an id; its reply settles the matching promise. The protocol is in protocol.js.
 import { MSG } from './protocol.js';
 
-/** An error reported by the worker; `message` is readable by the user. */
+/**
+ * An error reported by the worker: `message` is for the user, `kind` and `culprits` for the
+ * page (what the error is and which elements it names; see protocol.js).
+ */
 export class CoreError extends Error {
-  constructor(message, { fatal = false } = {}) {
+  constructor(message, { fatal = false, kind = fatal ? 'internal' : 'other', culprits = null } = {}) {
     super(message);
     this.name = 'CoreError';
     this.fatal = fatal;
+    this.kind = kind;
+    this.culprits = culprits;
   }
 }
 
@@ -178,7 +183,7 @@ export class CoreClient {
   terminate(reason = 'the quadlay core was stopped') {
     this.worker?.terminate();
     this.worker = null;
-    for (const { reject } of this.pending.values()) reject(new CoreError(reason, { fatal: true }));
+    for (const { reject } of this.pending.values()) reject(new CoreError(reason, { fatal: true, kind: 'stopped' }));
     this.pending.clear();
   }
 
@@ -197,14 +202,14 @@ export class CoreClient {
     return worker;
   }
 
-  settle({ id, result, error, fatal }) {
+  settle({ id, result, error, kind, culprits, fatal }) {
     const entry = this.pending.get(id);
     if (!entry) return;
     this.pending.delete(id);
     if (error === undefined) {
       entry.resolve(result);
     } else {
-      entry.reject(new CoreError(error, { fatal }));
+      entry.reject(new CoreError(error, { fatal, kind, culprits }));
       if (fatal) this.restart(error);
     }
   }

@@ -179,10 +179,10 @@ export class EditorInput {
     drag.stale = false;
     drag.previewed = true;
     let curves = null;
-    const moved = new Set(drag.node != null ? this.incidentEdges(drag.node).map((i) => `edges[${i}]`) : [`edges[${drag.edge}]`]);
+    const moved = new Set(drag.node != null ? this.incidentEdges(drag.node) : [drag.edge]);
     try {
       const view = await this.ed.client.setLayout(JSON.stringify(this.dragDoc(drag)));
-      curves = view.curves.filter((c) => moved.has(c.source)).map((c) => c.points);
+      curves = view.curves.filter((c) => moved.has(L.edgeIndex(c.source))).map((c) => c.points);
     } catch {
       // an invalid place: the dashed lines show it until the next one
     }

@@ -127,7 +127,9 @@ export class EditorToolbar {
       check.textContent = 'Checking the layout…';
     } else if (this.ed.error) {
       check.dataset.state = 'error';
-      check.textContent = has || !/no nodes/.test(this.ed.error) ? this.ed.error : 'No layout yet: add nodes.';
+      // A mesh without nodes is where every layout starts, not a mistake.
+      const empty = !has && this.ed.session.fault?.kind === 'component_without_nodes';
+      check.textContent = empty ? 'No layout yet: add nodes.' : this.ed.error;
       if (!has) check.dataset.state = 'empty';
     } else if (this.ed.view) {
       const s = this.ed.view.summary;

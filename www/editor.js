@@ -218,6 +218,7 @@ export class Editor {
       get mode() { return ed.mode; },
       setMode: (m) => ed.setMode(m),
       get error() { return ed.error; },
+      get fault() { return structuredClone(ed.session.fault); },
       get checking() { return ed.checking; },
       get summary() { return ed.view?.summary ?? null; },
       get problem() {

@@ -1,6 +1,6 @@
 // The layout document the editor changes (format v1, shared/spec/layout-format.md): pure
-// functions from a document to a new one, never changing their input, and the reading of
-// the core's error text into the entries it names. Keys the editor does not know are kept.
+// functions from a document to a new one, never changing their input, and what the core's
+// errors name in it. Keys the editor does not know are kept.
 
 /** An empty layout. */
 export function emptyDoc() {
@@ -196,36 +196,23 @@ export function deletePatch(doc, k) {
   return next;
 }
 
-/** The edge index of a curve's source (`edges[3]` → 3); a boundary piece → -1. */
+/** The edge index of a curve's source (`{ edge: 3 }` → 3); a boundary piece → -1. */
 export function edgeIndex(source) {
-  const m = /^edges\[(\d+)\]$/.exec(source);
-  return m ? Number(m[1]) : -1;
+  return Number.isInteger(source?.edge) ? source.edge : -1;
 }
 
 /**
- * What the core's error text names, for drawing it on the mesh:
- * { nodes, edges, patches, vertices, points } (indices; points as [x, y, z]).
- * Understands `nodes[i]`, `edges[i]` (also `edges[i].via[k]`), `patches[i]`, "the face with
- * nodes a, b, c", "(through|with) vertex v" and "at (x, y, z)".
+ * What the core's error names, for drawing it on the mesh: { nodes, edges, patches,
+ * vertices } (Sets of indices) and points ([x, y, z] each), read from the error's
+ * `culprits`, which the core sends as data (protocol.js); nothing for any other error.
  */
-export function problemOf(message, doc) {
+export function problemOf(error) {
   const out = { nodes: new Set(), edges: new Set(), patches: new Set(), vertices: new Set(), points: [] };
-  if (!message) return out;
-  for (const m of message.matchAll(/\b(nodes|edges|patches)\[(\d+)\]/g)) out[m[1]].add(Number(m[2]));
-  const face = /the face with nodes ([\d, ]+)/.exec(message);
-  if (face) {
-    const ids = face[1].split(',').map((s) => Number(s.trim())).filter(Number.isInteger);
-    for (const n of ids) out.nodes.add(n);
-    // The curves between them are the face's sides.
-    (doc?.edges ?? []).forEach((e, i) => {
-      if (ids.includes(e.nodes?.[0]) && ids.includes(e.nodes?.[1])) out.edges.add(i);
-    });
+  const culprits = error?.culprits;
+  if (!culprits) return out;
+  for (const key of ['nodes', 'edges', 'patches', 'vertices']) {
+    for (const i of culprits[key] ?? []) out[key].add(i);
   }
-  for (const m of message.matchAll(/(?:through|with) vertex (\d+)/g)) out.vertices.add(Number(m[1]));
-  const at = /at \((-?[\d.e+-]+), (-?[\d.e+-]+), (-?[\d.e+-]+)\)/.exec(message);
-  if (at) out.points.push([Number(at[1]), Number(at[2]), Number(at[3])]);
-  for (const p of out.patches) {
-    for (const n of doc?.patches?.[p]?.corners ?? []) out.nodes.add(n);
-  }
+  if (culprits.point) out.points.push(culprits.point);
   return out;
 }

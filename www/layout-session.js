@@ -38,6 +38,9 @@ export class LayoutSession {
     this.view = null;
     /** The core's verdict in words while the document is invalid, else null. */
     this.error = null;
+    /** The verdict as data while the document is invalid: { message (= error), kind,
+     * culprits } (protocol.js), else null. */
+    this.fault = null;
     /** What the error names: { nodes, edges, patches, vertices (Sets), points }. */
     this.problem = L.problemOf(null);
     /** Mesh vertex of every node (-1 where the entry is unusable). */
@@ -79,6 +82,7 @@ export class LayoutSession {
     this.checking = false;
     this.view = null;
     this.error = null;
+    this.fault = null;
     this.problem = L.problemOf(null);
     this.doc = L.emptyDoc();
     this.nodeVertex = [];
@@ -102,7 +106,7 @@ export class LayoutSession {
     const doc = L.parseDoc(text);
     this.layoutName = name;
     await this.apply(doc, { label: `open ${name}`, save: user });
-    if (this.error) throw new Error(this.error);
+    if (this.fault) throw Object.assign(new Error(this.fault.message), this.fault);
     return this.view;
   }
 
@@ -121,6 +125,7 @@ export class LayoutSession {
     this.resolveNodes();
     // Until the core answers: no stale verdict.
     this.view = null;
+    this.fault = null;
     this.problem = L.problemOf(null);
     this.seq++;
     this.lastEdit = { label, record, save };
@@ -173,15 +178,15 @@ export class LayoutSession {
       const message = error?.message || String(error);
       // A chart type set on a face that an edit has since changed no longer names a face:
       // it goes with that edit (undo brings both back).
-      const stale = /^patches\[(\d+)\]: /.exec(message);
-      if (stale && record && !label.startsWith('chart') && doc.patches?.[Number(stale[1])]) {
-        const fixed = L.deletePatch(doc, Number(stale[1]));
+      const stale = error?.kind === 'patch_not_a_face' ? error.culprits?.patches?.[0] ?? -1 : -1;
+      if (stale >= 0 && record && !label.startsWith('chart') && doc.patches?.[stale]) {
+        const fixed = L.deletePatch(doc, stale);
         this.history.undo();
         this.apply(fixed, { label, record, save });
         return;
       }
       // The worker has no mesh (it was restarted without one): load it again.
-      const lost = error?.fatal || /^load a mesh/.test(message);
+      const lost = error?.fatal || error?.kind === 'no_mesh';
       if (lost && this.onCoreLost && !this.recovering) {
         this.recovering = true;
         this.error = 'The quadlay core stopped; it restarts with this mesh and your layout…';
@@ -189,7 +194,8 @@ export class LayoutSession {
       } else {
         this.error = lost ? `${message}. Reload the page: your layout is saved in this browser.` : message;
       }
-      this.problem = L.problemOf(message, doc);
+      this.fault = { message: this.error, kind: error?.kind ?? null, culprits: error?.culprits ?? null };
+      this.problem = L.problemOf(error);
     }
     this.onUpdate('checked');
     this.resolveWaiters();

@@ -15,6 +15,7 @@
 //     doc            a copy of the layout document being edited (format v1)
 //     mode, setMode('view'|'node'|'edge'|'bend'|'align'|'chart'|'delete')
 //     error          the core's verdict on the document (e.g. 'edges[3]: ...'), null if valid
+//     fault          the same as data: { message, kind, culprits } (protocol.js), null if valid
 //     problem        what the error names: { nodes, edges, patches, vertices, points }
 //     summary        the layout summary while the document is valid, else null
 //     checking       true while the core checks the last edit; settled() → Promise when done

@@ -3,11 +3,18 @@
 //
 // Every request is   { id, type, ...args }          page → worker
 // and every reply is { id, result }                  worker → page, on success
-//                 or { id, error, fatal? }           worker → page, on failure
+//                 or { id, error, kind, culprits, fatal? }   worker → page, on failure
 //
 // `id` is a number the client picks to match a reply to its request; replies come in the
 // order the requests were sent (the worker handles one message at a time). `error` is a
-// readable sentence meant for the user, e.g. "x.obj: OBJ line 2: 'x' is not a number".
+// readable sentence meant for the user, e.g. "x.obj: OBJ line 2: 'x' is not a number"; it
+// may be reworded any time, so programs read `kind` and `culprits` instead:
+//   kind      a stable snake_case name: the core's (wasm.rs: e.g. 'same_face_both_sides',
+//             'patch_not_a_face', 'not_positive_definite', 'read_syntax'), or 'no_mesh' (the
+//             worker has no mesh yet), 'internal' (fatal), 'stopped' (the client threw the
+//             worker away), 'other'
+//   culprits  what the error names, or null: { nodes, edges, patches (indices into the
+//             layout file's lists), vertices (mesh vertices), point ([x, y, z] or null) }
 // `fatal: true` means the wasm instance trapped (a Rust panic, out of memory) and cannot be
 // trusted any more: the client throws the worker away and starts a fresh one.
 //
@@ -36,7 +43,8 @@ export const MSG = Object.freeze({
    * result: LayoutView { summary: { nodes, edges, aligned_edges, boundary_pieces, faces,
    *           t_vertices, charts: [quad, rect, unit], face_list: [{ corners, t_vertices,
    *           chart }] },
-   *           curves: [{ source: 'edges[3]' | 'boundary loop 0', align, nodes: [a, b],
+   *           curves: [{ source: { edge: 3 } | { boundary: 0 } (a file edge, or a piece of
+   *                      a boundary loop), align, nodes: [a, b],
    *                      points: number[] (xyz interleaved) }],
    *           vertex_face: number[] (face of every mesh vertex, -1 for nodes) }
    * On error (the layout's rule that fails, naming the entry) the worker has no layout.

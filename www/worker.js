@@ -9,6 +9,11 @@ let session = null;
 /** The wasm instantiation, started by the first message. */
 let ready = null;
 
+/** Throws the `no_mesh` error (protocol.js) while the worker has no mesh. */
+function needMesh(message = 'load a mesh first') {
+  if (!session) throw Object.assign(new Error(message), { kind: 'no_mesh' });
+}
+
 /** One function per message type: args → { result, transfer }. */
 const handlers = {
   [MSG.LOAD]({ bytes, name, repairs }) {
@@ -24,19 +29,19 @@ const handlers = {
     };
   },
   [MSG.SET_LAYOUT]({ text }) {
-    if (!session) throw new Error('load a mesh before a layout');
+    needMesh('load a mesh before a layout');
     return { result: session.setLayout(text) };
   },
   [MSG.PARAM_START]({ options = {} }) {
-    if (!session) throw new Error('load a mesh first');
+    needMesh();
     return { result: session.startParam(options) };
   },
   [MSG.PARAM_STEP]() {
-    if (!session) throw new Error('load a mesh first');
+    needMesh();
     return { result: session.stepParam() };
   },
   [MSG.PARAM_FINISH]() {
-    if (!session) throw new Error('load a mesh first');
+    needMesh();
     const distortion = session.finishParam();
     const view = paramView(session);
     return {
@@ -46,16 +51,16 @@ const handlers = {
     };
   },
   [MSG.PARAM_KEEP]({ name }) {
-    if (!session) throw new Error('load a mesh first');
+    needMesh();
     session.keepParam(name);
     return { result: null };
   },
   [MSG.PARAM_USE]({ name, previous }) {
-    if (!session) throw new Error('load a mesh first');
+    needMesh();
     return { result: session.useParam(name, previous ?? undefined) };
   },
   [MSG.REMESH]({ options = {} }) {
-    if (!session) throw new Error('load a mesh first');
+    needMesh();
     const report = session.remesh(options);
     const view = quadView(session.quadPositions(), session.quadIndices());
     return {
@@ -64,7 +69,7 @@ const handlers = {
     };
   },
   [MSG.EXPORT]({ what }) {
-    if (!session) throw new Error('load a mesh first');
+    needMesh();
     const [bytes, mime] = {
       'param-obj': () => [session.paramObj(), 'model/obj'],
       'cut-obj': () => [session.cutObj(), 'model/obj'],
@@ -191,6 +196,9 @@ self.onmessage = async (event) => {
     self.postMessage({
       id,
       error: fatal ? `internal error in the quadlay core (${message}); it was restarted` : message,
+      // The core's errors carry what they are about as data (wasm.rs); others have neither.
+      kind: fatal ? 'internal' : err?.kind ?? 'other',
+      culprits: err?.culprits ?? null,
       fatal,
     });
   }

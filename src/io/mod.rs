@@ -91,6 +91,18 @@ impl fmt::Display for ReadError {
 
 impl std::error::Error for ReadError {}
 
+impl ReadError {
+    /// A stable snake_case name of the error, for programs (the page).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ReadError::UnknownFormat { .. } => "unknown_format",
+            ReadError::Syntax { .. } => "read_syntax",
+            ReadError::Invalid { .. } => "read_invalid",
+            ReadError::Mesh { .. } => "bad_mesh",
+        }
+    }
+}
+
 /// A soup as a reader produced it, with where each triangle came from in the file.
 pub(crate) struct ReadSoup {
     pub soup: TriangleSoup,

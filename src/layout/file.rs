@@ -4,6 +4,7 @@
 //! The JSON is walked by hand rather than through derived deserializers so that every
 //! error names its entry (`edges[3].via[0]: ...`) and says what was expected.
 
+use crate::culprits::Culprits;
 use crate::mesh::Mesh;
 use crate::quote::quoted;
 use serde_json::{json, Map, Value};
@@ -159,12 +160,111 @@ pub enum Problem {
     OtherMesh { layout: MeshCounts, mesh: MeshCounts },
 }
 
-/// A layout error: the entry it is about (`nodes[2]`, `edges[3].via[0]`, or empty for the
-/// whole document) and the problem.
+/// A layout error: the entry it is about and the problem.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LayoutFileError {
-    pub entry: String,
+    pub entry: Entry,
     pub problem: Problem,
+}
+
+/// Where in a layout file an error is: the path its message names (`nodes[2]`,
+/// `edges[3].via[0]`, empty for the whole document), and as data the node, edge or patch
+/// that path is in (`None` for the document's own keys).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Entry {
+    path: String,
+    element: Option<Element>,
+}
+
+impl Entry {
+    pub fn as_str(&self) -> &str {
+        &self.path
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.path.is_empty()
+    }
+
+    /// The node, edge or patch the entry is in.
+    pub fn element(&self) -> Option<Element> {
+        self.element
+    }
+}
+
+impl fmt::Display for Entry {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.path)
+    }
+}
+
+impl PartialEq<str> for Entry {
+    fn eq(&self, path: &str) -> bool {
+        self.path == path
+    }
+}
+
+impl PartialEq<&str> for Entry {
+    fn eq(&self, path: &&str) -> bool {
+        self.path == *path
+    }
+}
+
+/// A node, edge or patch of a layout file, by its index in its list.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Element {
+    Node(u32),
+    Edge(u32),
+    Patch(u32),
+}
+
+impl LayoutFileError {
+    /// The error as found inside `element` (kept if it already names one).
+    pub(crate) fn within(mut self, element: Element) -> Self {
+        self.entry.element.get_or_insert(element);
+        self
+    }
+
+    /// A stable snake_case name of the problem, for programs (the page).
+    pub fn kind(&self) -> &'static str {
+        match self.problem {
+            Problem::Json(_) => "not_json",
+            Problem::UnknownKey(_) => "unknown_key",
+            Problem::Missing(_) => "missing_key",
+            Problem::Expected(_) => "wrong_type",
+            Problem::WrongFormat(_) => "wrong_format",
+            Problem::UnsupportedVersion(_) => "unsupported_version",
+            Problem::NotFinite => "not_finite",
+            Problem::NoSuchNode { .. } => "no_such_node",
+            Problem::NoSuchVertex { .. } => "no_such_vertex",
+            Problem::IsolatedVertex { .. } => "isolated_vertex",
+            Problem::SameVertex { .. } => "same_vertex",
+            Problem::SelfLoop => "self_loop",
+            Problem::UnknownChart(_) => "unknown_chart",
+            Problem::RepeatedCorner(_) => "repeated_corner",
+            Problem::TooManyWaypoints => "too_many_waypoints",
+            Problem::OtherMesh { .. } => "other_mesh",
+        }
+    }
+
+    /// The element the error is in, and the node and mesh vertex a node shares.
+    pub fn culprits(&self) -> Culprits {
+        let mut c = Culprits::none();
+        match self.entry.element {
+            Some(Element::Node(i)) => c.nodes.push(i),
+            Some(Element::Edge(i)) => c.edges.push(i),
+            Some(Element::Patch(i)) => c.patches.push(i),
+            None => {}
+        }
+        match self.problem {
+            Problem::SameVertex { vertex, other } => {
+                c.nodes.push(other as u32);
+                c.vertices.push(vertex);
+            }
+            Problem::IsolatedVertex { vertex } => c.vertices.push(vertex),
+            _ => {}
+        }
+        c
+    }
 }
 
 impl fmt::Display for LayoutFileError {
@@ -211,7 +311,7 @@ impl fmt::Display for LayoutFileError {
 impl std::error::Error for LayoutFileError {}
 
 fn err(entry: impl Into<String>, problem: Problem) -> LayoutFileError {
-    LayoutFileError { entry: entry.into(), problem }
+    LayoutFileError { entry: Entry { path: entry.into(), element: None }, problem }
 }
 
 /// An object's fields, refusing keys outside `allowed`.
@@ -276,6 +376,66 @@ fn location(v: &Value, entry: &str) -> Result<Location, LayoutFileError> {
     }
 }
 
+/// `edges[i]`: two different nodes, an optional alignment tag and waypoints (`waypoints`
+/// counts those of the layout so far).
+fn edge(v: &Value, entry: &str, n: usize, waypoints: &mut usize) -> Result<EdgeSpec, LayoutFileError> {
+    let empty = Vec::new();
+    let obj = object(v, entry, &["nodes", "align", "via"], "an object")?;
+    let pair = obj.get("nodes").ok_or_else(|| err(entry, Problem::Missing("nodes")))?;
+    let pair = array(pair, &format!("{entry}.nodes"), "[a, b]")?;
+    if pair.len() != 2 {
+        return Err(err(format!("{entry}.nodes"), Problem::Expected("two node indices [a, b]")));
+    }
+    let a = node_index(&pair[0], entry, n)?;
+    let b = node_index(&pair[1], entry, n)?;
+    if a == b {
+        return Err(err(entry, Problem::SelfLoop));
+    }
+    let align = match obj.get("align") {
+        None => false,
+        Some(Value::Bool(b)) => *b,
+        Some(_) => return Err(err(format!("{entry}.align"), Problem::Expected("true or false"))),
+    };
+    let via_values = match obj.get("via") {
+        None => &empty[..],
+        Some(v) => array(v, &format!("{entry}.via"), "an array of waypoints")?,
+    };
+    *waypoints += via_values.len();
+    if *waypoints > MAX_WAYPOINTS {
+        return Err(err(format!("{entry}.via"), Problem::TooManyWaypoints));
+    }
+    let via = via_values
+        .iter()
+        .enumerate()
+        .map(|(k, w)| location(w, &format!("{entry}.via[{k}]")))
+        .collect::<Result<_, _>>()?;
+    Ok(EdgeSpec { nodes: [a, b], align, via })
+}
+
+/// `patches[i]`: four different corners and an optional chart type.
+fn patch(p: &Value, entry: &str, n: usize) -> Result<PatchSpec, LayoutFileError> {
+    let obj = object(p, entry, &["corners", "chart"], "an object")?;
+    let c = obj.get("corners").ok_or_else(|| err(entry, Problem::Missing("corners")))?;
+    let c = array(c, &format!("{entry}.corners"), "four node indices")?;
+    if c.len() != 4 {
+        return Err(err(format!("{entry}.corners"), Problem::Expected("four node indices")));
+    }
+    let mut corners = [0u32; 4];
+    for k in 0..4 {
+        corners[k] = node_index(&c[k], entry, n)?;
+        if corners[..k].contains(&corners[k]) {
+            return Err(err(entry, Problem::RepeatedCorner(corners[k])));
+        }
+    }
+    let chart = obj.get("chart").map(|c| chart(c, &format!("{entry}.chart"))).transpose()?;
+    Ok(PatchSpec { corners, chart })
+}
+
+fn chart(v: &Value, entry: &str) -> Result<ChartType, LayoutFileError> {
+    let s = v.as_str().ok_or_else(|| err(entry, Problem::Expected("\"quad\", \"rect\" or \"unit\"")))?;
+    ChartType::parse(s).ok_or_else(|| err(entry, Problem::UnknownChart(s.to_string())))
+}
+
 /// Parses a layout file and checks every rule that does not need the mesh.
 ///
 /// # Errors
@@ -299,7 +459,7 @@ pub fn parse_layout(text: &str) -> Result<Layout, LayoutFileError> {
     let nodes = array(nodes_v, "nodes", "an array of nodes")?
         .iter()
         .enumerate()
-        .map(|(i, v)| location(v, &format!("nodes[{i}]")))
+        .map(|(i, v)| location(v, &format!("nodes[{i}]")).map_err(|e| e.within(Element::Node(i as u32))))
         .collect::<Result<Vec<_>, _>>()?;
     let n = nodes.len();
 
@@ -311,62 +471,14 @@ pub fn parse_layout(text: &str) -> Result<Layout, LayoutFileError> {
         None => &empty,
     };
     for (i, v) in edge_values.iter().enumerate() {
-        let entry = format!("edges[{i}]");
-        let obj = object(v, &entry, &["nodes", "align", "via"], "an object")?;
-        let pair = obj.get("nodes").ok_or_else(|| err(&entry, Problem::Missing("nodes")))?;
-        let pair = array(pair, &format!("{entry}.nodes"), "[a, b]")?;
-        if pair.len() != 2 {
-            return Err(err(format!("{entry}.nodes"), Problem::Expected("two node indices [a, b]")));
-        }
-        let a = node_index(&pair[0], &entry, n)?;
-        let b = node_index(&pair[1], &entry, n)?;
-        if a == b {
-            return Err(err(&entry, Problem::SelfLoop));
-        }
-        let align = match obj.get("align") {
-            None => false,
-            Some(Value::Bool(b)) => *b,
-            Some(_) => return Err(err(format!("{entry}.align"), Problem::Expected("true or false"))),
-        };
-        let via_values = match obj.get("via") {
-            None => &empty,
-            Some(v) => array(v, &format!("{entry}.via"), "an array of waypoints")?,
-        };
-        waypoints += via_values.len();
-        if waypoints > MAX_WAYPOINTS {
-            return Err(err(format!("{entry}.via"), Problem::TooManyWaypoints));
-        }
-        let via = via_values
-            .iter()
-            .enumerate()
-            .map(|(k, w)| location(w, &format!("{entry}.via[{k}]")))
-            .collect::<Result<_, _>>()?;
-        edges.push(EdgeSpec { nodes: [a, b], align, via });
+        let edge = edge(v, &format!("edges[{i}]"), n, &mut waypoints);
+        edges.push(edge.map_err(|e| e.within(Element::Edge(i as u32)))?);
     }
 
-    let chart = |v: &Value, entry: &str| -> Result<ChartType, LayoutFileError> {
-        let s = v.as_str().ok_or_else(|| err(entry, Problem::Expected("\"quad\", \"rect\" or \"unit\"")))?;
-        ChartType::parse(s).ok_or_else(|| err(entry, Problem::UnknownChart(s.to_string())))
-    };
     let mut patches = Vec::new();
     if let Some(v) = root.get("patches") {
         for (i, p) in array(v, "patches", "an array of patches")?.iter().enumerate() {
-            let entry = format!("patches[{i}]");
-            let obj = object(p, &entry, &["corners", "chart"], "an object")?;
-            let c = obj.get("corners").ok_or_else(|| err(&entry, Problem::Missing("corners")))?;
-            let c = array(c, &format!("{entry}.corners"), "four node indices")?;
-            if c.len() != 4 {
-                return Err(err(format!("{entry}.corners"), Problem::Expected("four node indices")));
-            }
-            let mut corners = [0u32; 4];
-            for k in 0..4 {
-                corners[k] = node_index(&c[k], &entry, n)?;
-                if corners[..k].contains(&corners[k]) {
-                    return Err(err(&entry, Problem::RepeatedCorner(corners[k])));
-                }
-            }
-            let chart = obj.get("chart").map(|c| chart(c, &format!("{entry}.chart"))).transpose()?;
-            patches.push(PatchSpec { corners, chart });
+            patches.push(patch(p, &format!("patches[{i}]"), n).map_err(|e| e.within(Element::Patch(i as u32)))?);
         }
     }
     let mut default_chart = ChartType::Quad;
@@ -478,9 +590,10 @@ pub fn resolve_nodes(mesh: &Mesh, layout: &Layout) -> Result<Vec<u32>, LayoutFil
     let mut out = Vec::with_capacity(layout.nodes.len());
     for (i, l) in layout.nodes.iter().enumerate() {
         let entry = format!("nodes[{i}]");
-        let v = resolve_location(mesh, l, &entry)?;
+        let node = Element::Node(i as u32);
+        let v = resolve_location(mesh, l, &entry).map_err(|e| e.within(node))?;
         if let Some(&other) = owner.get(&v) {
-            return Err(err(entry, Problem::SameVertex { vertex: v, other }));
+            return Err(err(entry, Problem::SameVertex { vertex: v, other }).within(node));
         }
         owner.insert(v, i);
         out.push(v);

@@ -14,7 +14,8 @@ use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
 use curve::{meeting_point, trace_curve, Curve, CurvePoint};
 use embedding::{rotation, trace_faces, CurveNodes, Directed};
-pub use file::{parse_layout, write_layout, ChartType, Layout, LayoutFileError, Location, MeshCounts, MAX_WAYPOINTS};
+pub use file::{parse_layout, write_layout, ChartType, Element, Entry, Layout, LayoutFileError, Location, MeshCounts, MAX_WAYPOINTS};
+use crate::culprits::Culprits;
 use std::fmt;
 
 /// Where a curve comes from: a layout edge of the file, or a piece of a mesh boundary loop.
@@ -174,6 +175,68 @@ impl fmt::Display for LayoutError {
 
 impl std::error::Error for LayoutError {}
 
+impl CurveSource {
+    /// The index of the file's edge this curve is, or `None` for a boundary piece.
+    pub fn edge(self) -> Option<u32> {
+        match self {
+            CurveSource::Edge(i) => Some(i as u32),
+            CurveSource::Boundary { .. } => None,
+        }
+    }
+}
+
+impl LayoutError {
+    /// A stable snake_case name of the rule that failed, for programs (the page).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            LayoutError::File(e) => e.kind(),
+            LayoutError::NoPath { .. } => "no_path",
+            LayoutError::CurvesMeet { .. } => "curves_meet",
+            LayoutError::ComponentWithoutNodes { .. } => "component_without_nodes",
+            LayoutError::BoundaryLoopNodes { .. } => "boundary_loop_nodes",
+            LayoutError::NodeOnNoEdge { .. } => "node_on_no_edge",
+            LayoutError::SameFaceBothSides { .. } => "same_face_both_sides",
+            LayoutError::FaceTooFewNodes { .. } => "face_too_few_nodes",
+            LayoutError::FaceNotDisk { .. } => "face_not_disk",
+            LayoutError::PatchNotAFace { .. } => "patch_not_a_face",
+            LayoutError::TooCoarse { .. } => "face_too_coarse",
+        }
+    }
+
+    /// What the error names in `layout`, the file it is about: a face brings its nodes and
+    /// its sides (the file's edges between two of them), a patch its corners, a mesh
+    /// component or boundary loop one of its vertices.
+    pub fn culprits(&self, layout: &Layout) -> Culprits {
+        let face = |nodes: &[u32]| Culprits {
+            nodes: nodes.to_vec(),
+            edges: (0..layout.edges.len() as u32)
+                .filter(|&i| layout.edges[i as usize].nodes.iter().all(|n| nodes.contains(n)))
+                .collect(),
+            ..Culprits::none()
+        };
+        match self {
+            LayoutError::File(e) => e.culprits(),
+            LayoutError::NoPath { edge, .. } => Culprits::edges([*edge as u32]),
+            LayoutError::CurvesMeet { a, b, at } => {
+                Culprits { edges: [a, b].into_iter().filter_map(|s| s.edge()).collect(), point: Some(*at), ..Culprits::none() }
+            }
+            LayoutError::ComponentWithoutNodes { first_vertex, .. } | LayoutError::BoundaryLoopNodes { first_vertex, .. } => {
+                Culprits::vertices([*first_vertex])
+            }
+            LayoutError::NodeOnNoEdge { node } => Culprits::nodes([*node as u32]),
+            LayoutError::SameFaceBothSides { curve } => Culprits::edges(curve.edge()),
+            LayoutError::FaceTooFewNodes { nodes } | LayoutError::FaceNotDisk { nodes, .. } | LayoutError::TooCoarse { nodes } => {
+                face(nodes)
+            }
+            LayoutError::PatchNotAFace { patch, .. } => Culprits {
+                nodes: layout.patches.get(*patch).map_or_else(Vec::new, |p| p.corners.to_vec()),
+                patches: vec![*patch as u32],
+                ..Culprits::none()
+            },
+        }
+    }
+}
+
 impl From<LayoutFileError> for LayoutError {
     fn from(e: LayoutFileError) -> Self {
         LayoutError::File(e)
@@ -218,7 +281,7 @@ pub fn build_layout_on(mesh: &Mesh, layout: &Layout, as_read: MeshCounts) -> Res
         let mut stops = vec![node_vertex[e.nodes[0] as usize]];
         for (k, w) in e.via.iter().enumerate() {
             let entry = format!("edges[{i}].via[{k}]");
-            let v = file::resolve_location(mesh, w, &entry)?;
+            let v = file::resolve_location(mesh, w, &entry).map_err(|e| e.within(Element::Edge(i as u32)))?;
             if let Some(n) = node_of(v) {
                 let reason = format!("waypoint {k} lies on node {n}; curves may meet only at their own ends");
                 return Err(LayoutError::NoPath { edge: i, reason });

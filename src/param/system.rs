@@ -25,6 +25,7 @@ use super::frames::ChartFrames;
 use super::transition::Affine;
 use crate::geom::{cotangent, perp2};
 use crate::clock::now;
+use crate::culprits::Culprits;
 use crate::mesh::NONE;
 use crate::solve::{SolveError, SpdSolver};
 use std::fmt;
@@ -43,6 +44,11 @@ pub(super) enum Var {
 #[derive(Debug, Clone, PartialEq)]
 pub enum ParamError {
     Solve(SolveError),
+    /// The global system is not positive definite: its factorization met a pivot that is
+    /// not strictly positive, at unknown `pivot`, which belongs to input mesh vertex
+    /// `vertex` (for an unknown of a curve crossing: the nearest corner of the input
+    /// triangle it lies in).
+    NotPositiveDefinite { pivot: usize, vertex: u32 },
     /// A triangle touches a node that is not on its face (only on meshes too coarse for
     /// the layout).
     NodeNotOnFace { node: u32, face: u32 },
@@ -56,6 +62,10 @@ impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             ParamError::Solve(e) => write!(f, "the global system could not be solved: {e}"),
+            ParamError::NotPositiveDefinite { pivot, vertex } => write!(
+                f,
+                "the global system could not be solved: sparse Cholesky: the matrix is not positive definite near vertex {vertex} (pivot {pivot})"
+            ),
             ParamError::NodeNotOnFace { node, face } => {
                 write!(f, "a triangle of face {face} touches node {node}, which is not on that face; the mesh is too coarse there")
             }
@@ -68,6 +78,30 @@ impl fmt::Display for ParamError {
 }
 
 impl std::error::Error for ParamError {}
+
+impl ParamError {
+    /// A stable snake_case name of the error, for programs (the page).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ParamError::Solve(e) => e.kind(),
+            ParamError::NotPositiveDefinite { .. } => "not_positive_definite",
+            ParamError::NodeNotOnFace { .. } => "node_not_on_face",
+            ParamError::NotNeighbours { .. } => "faces_not_neighbours",
+            ParamError::Option { .. } => "bad_options",
+        }
+    }
+
+    /// The node or mesh vertex the error names.
+    pub fn culprits(&self) -> Culprits {
+        match *self {
+            ParamError::Solve(_) | ParamError::Option { .. } => Culprits::none(),
+            ParamError::NotPositiveDefinite { vertex, .. } | ParamError::NotNeighbours { vertex, .. } => {
+                Culprits::vertices([vertex])
+            }
+            ParamError::NodeNotOnFace { node, .. } => Culprits::nodes([node]),
+        }
+    }
+}
 
 impl From<SolveError> for ParamError {
     fn from(e: SolveError) -> Self {
@@ -114,6 +148,27 @@ impl Expr {
             Var::OnSide(_) => std::array::from_fn(|r| self.m[r][0] * zi(0) + self.b[r]),
         }
     }
+}
+
+/// The input mesh vertex of refined vertex `v`: itself, or for a curve crossing (numbered
+/// after the input's vertices) the nearest corner of the input triangle it lies in.
+fn input_vertex(cut: &CutMesh, v: u32) -> u32 {
+    let Some(t) = cut.triangles.iter().position(|tri| tri.contains(&v)) else { return v };
+    let origin = cut.triangle_origin[t];
+    // The input triangle's corners are the three lowest vertex numbers among its pieces.
+    let mut corners: Vec<u32> = (0..cut.triangles.len())
+        .filter(|&k| cut.triangle_origin[k] == origin)
+        .flat_map(|k| cut.triangles[k])
+        .collect();
+    corners.sort_unstable();
+    corners.dedup();
+    corners.truncate(3);
+    if corners.contains(&v) {
+        return v;
+    }
+    let at = cut.positions[v as usize];
+    let d2 = |c: u32| (0..3).map(|k| (cut.positions[c as usize][k] - at[k]).powi(2)).sum::<f64>();
+    corners.into_iter().min_by(|&a, &b| d2(a).total_cmp(&d2(b))).unwrap_or(v)
 }
 
 /// The vertices held on their chart side in a solve: every vertex of an aligned curve and,
@@ -499,6 +554,18 @@ impl System {
         Ok(())
     }
 
+    /// A failed factorization's pivot named by the input mesh vertex whose unknown it is.
+    fn pivot_vertex(&self, e: ParamError, cut: &CutMesh) -> ParamError {
+        let ParamError::Solve(SolveError::NotPositiveDefinite { pivot }) = e else { return e };
+        let owns = |var: &Var| match *var {
+            Var::Free(i) => pivot == i as usize || pivot == i as usize + 1,
+            Var::OnSide(i) => pivot == i as usize,
+            Var::Fixed => false,
+        };
+        let vertex = self.vars.iter().position(owns).map_or(NONE, |v| input_vertex(cut, v as u32));
+        ParamError::NotPositiveDefinite { pivot, vertex }
+    }
+
     /// The curve vertices with an n unknown (those of released curves), with its index.
     fn released<'a>(&'a self, cut: &'a CutMesh) -> impl Iterator<Item = (usize, u32)> + 'a {
         self.vars.iter().enumerate().filter_map(|(v, var)| match var {
@@ -538,11 +605,12 @@ impl System {
         };
         let mut rhs = vec![0.0; self.n_unknowns];
         let assembly = Assembly { cut, exprs: &exprs, weights, held };
-        if first {
-            self.first_solve(&assembly, &mut rhs, t0)?;
+        let factored = if first {
+            self.first_solve(&assembly, &mut rhs, t0)
         } else {
-            self.later_solve(&assembly, &mut rhs, t0)?;
-        }
+            self.later_solve(&assembly, &mut rhs, t0)
+        };
+        factored.map_err(|e| self.pivot_vertex(e, cut))?;
         let t3 = now();
         let mut z = rhs;
         if let Some(solver) = self.solver.as_ref() {

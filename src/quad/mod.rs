@@ -8,8 +8,9 @@ pub mod counts;
 pub mod density;
 pub mod locate;
 
-use crate::layout::SurfaceLayout;
+use crate::culprits::Culprits;
 use crate::geom::{norm, sub};
+use crate::layout::{CurveSource, SurfaceLayout};
 use crate::mesh::{build_mesh, Mesh, MeshError, TriangleSoup, NONE};
 use crate::param::frames::ChartFrames;
 use crate::param::ParamSession;
@@ -80,9 +81,8 @@ pub const MAX_QUADS: u64 = MEMORY_BUDGET / BYTES_PER_QUAD;
 pub enum QuadError {
     /// The edge length is not a positive finite number.
     EdgeLength(f64),
-    /// The sample counts cannot be made consistent; `pieces` names the curves involved
-    /// (`edges[3]`, `boundary loop 0`).
-    Counts { error: CountError, pieces: Vec<String> },
+    /// The sample counts cannot be made consistent; `pieces` are the curves involved.
+    Counts { error: CountError, pieces: Vec<CurveSource> },
     /// The edge length asks for more than [`MAX_QUADS`] quads (more memory than
     /// [`MEMORY_BUDGET`]): about `quads` (infinite when a curve's length over the edge length
     /// overflows).
@@ -101,7 +101,7 @@ impl fmt::Display for QuadError {
                 f,
                 "the layout does not make quads: opposite sides of its faces cannot get equal numbers of segments \
                  unless {} get fewer than one; move or remove a T-vertex there",
-                pieces.join(", ")
+                pieces.iter().map(|p| p.to_string()).collect::<Vec<_>>().join(", ")
             ),
             QuadError::Counts { error, .. } => write!(f, "{error}"),
             QuadError::Unreadable { quad, at, error } => {
@@ -129,6 +129,31 @@ impl fmt::Display for QuadError {
                     gb(MAX_QUADS as f64)
                 )
             }
+        }
+    }
+}
+
+impl std::error::Error for QuadError {}
+
+impl QuadError {
+    /// A stable snake_case name of the error, for programs (the page).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            QuadError::EdgeLength(_) => "edge_length",
+            QuadError::Counts { error: CountError::Infeasible { .. }, .. } => "counts_infeasible",
+            QuadError::Counts { error: CountError::Fractional { .. }, .. } => "counts_fractional",
+            QuadError::Counts { error: CountError::Solver(_), .. } => "counts_solver",
+            QuadError::TooMany { .. } => "too_many_quads",
+            QuadError::Unreadable { .. } => "quads_unreadable",
+        }
+    }
+
+    /// The layout edges among the pieces whose counts cannot agree; where a quad folds.
+    pub fn culprits(&self) -> Culprits {
+        match self {
+            QuadError::Counts { pieces, .. } => Culprits::edges(pieces.iter().filter_map(|p| p.edge())),
+            QuadError::Unreadable { at, .. } => Culprits { point: Some(*at), ..Culprits::none() },
+            _ => Culprits::none(),
         }
     }
 }
@@ -293,7 +318,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
             CountError::Fractional { .. } => CountError::Fractional { piece: pieces[0] },
             other => other,
         };
-        QuadError::Counts { error, pieces: pieces.iter().map(|&c| layout.curves[c as usize].source.to_string()).collect() }
+        QuadError::Counts { error, pieces: pieces.iter().map(|&c| layout.curves[c as usize].source).collect() }
     })?;
     let counts = problem.per_curve(&counts, layout.curves.len());
     let desired = density::desired_counts(layout, &desires);

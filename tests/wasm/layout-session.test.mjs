@@ -78,7 +78,9 @@ test('edits are checked by the core; undo and redo walk them', async () => {
   await pending;
   assert.equal(s.view, null);
   assert.match(s.error, /nodes\[4\]/);
+  assert.equal(s.fault.kind, 'node_on_no_edge');
   assert.deepEqual([...s.problem.nodes], [4]);
+  assert.equal(s.problem.edges.size + s.problem.vertices.size + s.problem.points.length, 0);
 
   assert.equal(s.history.undoLabel, 'add node');
   assert.ok(s.undo());
@@ -161,6 +163,39 @@ test('the autosaved layout is offered on the same mesh, restored with its undo h
   assert.equal(other.offer, null);
 });
 
+test("the core's culprits are what the session marks, whatever the message says", async () => {
+  globalThis.localStorage = new MemoryStorage();
+  const c = core();
+  const working = c.client.setLayout;
+  // The core's answer reworded: the marks come from `culprits`, not from the words.
+  c.client.setLayout = async (text) => {
+    try {
+      return await working.call(c.client, text);
+    } catch (err) {
+      throw Object.assign(new Error('something else entirely'), { kind: err.kind, culprits: err.culprits });
+    }
+  };
+  const { s } = open(c);
+  // Both diagonals cross in the middle.
+  let doc = L.addEdge(fourCorners(), 0, 2)[0];
+  doc = L.addEdge(doc, 1, 3)[0];
+  await s.apply(doc);
+  assert.equal(s.error, 'something else entirely');
+  assert.equal(s.fault.kind, 'curves_meet');
+  assert.deepEqual([...s.problem.edges].sort(), [0, 1]);
+  assert.equal(s.problem.points.length, 1);
+  // A file error inside an edge: that edge.
+  await s.apply(L.addEdge(fourCorners(), 0, 0)[0]);
+  assert.equal(s.fault.kind, 'self_loop');
+  assert.deepEqual([...s.problem.edges], [0]);
+  await s.open(L.toText(fourCorners()), 'four.layout.json');
+  assert.equal(s.fault, null);
+  assert.equal(s.problem.edges.size, 0);
+  // Opening a file the core refuses rejects with the core's kind and culprits.
+  await assert.rejects(s.open(L.toText(L.addNode(fourCorners(), TOP)[0]), 'five.layout.json'),
+    (err) => err.kind === 'node_on_no_edge' && err.culprits.nodes[0] === 4);
+});
+
 test('a chart type on a face an edit removed goes with that edit', async () => {
   globalThis.localStorage = new MemoryStorage();
   const { s } = open();
@@ -189,7 +224,7 @@ test('a core that lost the mesh: the session asks for it again and keeps the doc
   // The worker restarted without a mesh: it refuses layouts.
   const working = c.client.setLayout;
   c.client.setLayout = async () => {
-    throw new Error('load a mesh before a layout');
+    throw Object.assign(new Error('load a mesh before a layout'), { kind: 'no_mesh' });
   };
   await s.apply(twoFaces(doc), { label: 'add edge' });
   assert.equal(lost, 1);
