@@ -292,7 +292,7 @@ impl Session {
         let opts = layout_options(options, "crossField", &["featureAngle"])?;
         let mesh = &self.loaded.mesh;
         let field = compute_field(mesh, opts.feature_angle)
-            .map_err(|e| Thrown::new("solver", ProposeError::Field(e).to_string()))?;
+            .map_err(|e| Thrown::new(e.kind(), ProposeError::Field(e).to_string()))?;
         to_js(&field.view(mesh))
     }
 
