@@ -9,7 +9,6 @@
 import * as L from './layout-doc.js';
 
 /** How many faces that need a node the Layout card lists. */
-const SHOWN = 5;
 
 export class EditorGuide {
   /**
@@ -28,6 +27,7 @@ export class EditorGuide {
   /** The faces' guidance of the current layout (null: none known). */
   set(faces) {
     this.faces = Array.isArray(faces) ? faces : [];
+    this.shown = -1;
     this.place();
   }
 
@@ -47,25 +47,31 @@ export class EditorGuide {
   }
 
   /**
-   * The Layout card's rows: the faces that hold too much curvature (at most SHOWN of them,
-   * the most first), or one row saying none does; every face's numbers are on hover.
+   * What the Layout card's Faces row adds about curvature: how many faces hold too much for
+   * a flat chart, short and in words (null when none does, or nothing is known). Inside that row, not a row of
+   * its own, so the card keeps the Solve card on screen; every face's numbers are on hover.
    */
-  rows() {
-    if (!this.faces.length) return [];
-    const needy = this.faces.filter((g) => g.needs_node)
+  facesNote() {
+    const needy = this.needy();
+    if (!needy.length) return null;
+    return { text: `⚠ ${needy.length}`, words: `${needy.length} of the faces need${needy.length > 1 ? '' : 's'} a node inside (up to ${signed(needy[0].curvature_deg)} of curvature)` };
+  }
+
+  /** The faces that hold too much curvature for a flat chart, the most first. */
+  needy() {
+    return this.faces.filter((g) => g.needs_node)
       .sort((a, b) => Math.abs(b.curvature_deg) - Math.abs(a.curvature_deg));
-    if (!needy.length) {
-      const most = Math.max(...this.faces.map((g) => Math.abs(g.curvature_deg)));
-      return [['curvature', 'Curvature', `at most ${signed(most).replace('+', '')} a face`, 'ok']];
-    }
-    const rows = needy.slice(0, SHOWN).map((g) => [
-      `face-${g.face}`,
-      `⚠ Face ${g.face}`,
-      `${signed(g.curvature_deg)}${Number.isFinite(g.length_error) ? ` · ${(100 * g.length_error).toFixed(1)} %` : ''}`,
-      'warn',
-    ]);
-    if (needy.length > SHOWN) rows.push(['more-faces', '…', `${needy.length - SHOWN} more`, '']);
-    return rows;
+  }
+
+  /**
+   * The next place where a node would help, going round the faces that need one (the most
+   * curved first) one call at a time; null when none has a suggestion.
+   */
+  nextSuggestion() {
+    const places = this.needy().filter((g) => g.suggestion);
+    if (!places.length) return null;
+    this.shown = ((this.shown ?? -1) + 1) % places.length;
+    return places[this.shown].suggestion.at;
   }
 
   /** Turns face f's suggestion into a node: an ordinary edit, undone like any other. */
@@ -89,6 +95,9 @@ export class EditorGuide {
    * of the surface, hidden otherwise; called after the camera moves or the layout changes.
    */
   place() {
+    // Called from the controls' change event, before the frame that would update the
+    // camera's matrices: project with the camera as it is now, not as last drawn.
+    this.ed.viewer.camera.updateMatrixWorld();
     const items = this.suggestions().map((g) => {
       const at = g.suggestion.at;
       const s = this.ed.picker.screenOf(at);

@@ -167,23 +167,34 @@ export class EditorToolbar {
       ['t_vertices', 'T-vertices', s?.t_vertices ?? '—'],
       ['charts', 'Charts', s ? `${s.charts[0]} quad · ${s.charts[1]} rect · ${s.charts[2]} unit` : '—'],
     ];
-    const guide = this.ed.guide.rows();
-    if (guide.length) rows.push([null, 'Curvature in the faces (beyond 45°: a node inside)']);
-    rows.push(...guide);
     dl.replaceChildren(...rows.flatMap(([key, label, value, cls]) => {
-      if (key === null) {
-        const div = document.createElement('div');
-        div.className = 'group';
-        div.textContent = label;
-        div.title = 'the Gaussian curvature a face encloses cannot lie flat in its chart: about 90° or more needs a node inside (a corner of 3 or 5 faces)';
-        return [div];
-      }
       const dt = document.createElement('dt');
       const dd = document.createElement('dd');
       dt.textContent = label;
       dd.textContent = typeof value === 'number' ? value.toLocaleString('en-US') : String(value);
       dd.dataset.key = key;
       if (cls) dd.className = cls;
+      const note = key === 'faces' ? this.ed.guide.facesNote() : null;
+      if (note) {
+        const why = document.createElement('span');
+        why.className = 'warn';
+        why.dataset.key = 'needs-node';
+        why.textContent = note.text;
+        why.title = `${note.words}: the Gaussian curvature a face encloses cannot lie flat in its chart; beyond 45° it needs a node inside (a corner of 3 or 5 faces). Hover a face for its numbers; Show turns the view to where a node would help`;
+        dd.append(' ', why);
+        // The suggested places may be on the far side: the button turns the view to the next
+        // one, where its "add a node here" marker shows.
+        const show = document.createElement('button');
+        show.type = 'button';
+        show.className = 'guide-show';
+        show.textContent = 'Show';
+        show.title = 'turn the view to the next place where a node would help';
+        show.addEventListener('click', () => {
+          const at = this.ed.guide.nextSuggestion();
+          if (at) this.ed.viewer.flyTo(at);
+        });
+        dd.append(' ', show);
+      }
       return [dt, dd];
     }));
     problem.hidden = !this.ed.error || this.ed.checking;

@@ -160,6 +160,8 @@ async function loadLayout(source) {
     await viewer.nextFrame();
     panel.hideError();
     panel.renderLayoutSummary(view.summary, name);
+    // The editor's rows of the same card add the faces' curvature (editor-guide.js).
+    editor.updateUi();
     Object.assign(quadlay, { layout: view.summary, error: null, state: 'ready' });
     const ms = Math.round(performance.now() - t0);
     panel.setStatus('ready', `Placed ${name}: ${view.summary.faces} faces in ${fmt.format(ms)} ms`);
