@@ -11,8 +11,8 @@
 
 use super::frames::Frames;
 use super::Complex;
-use crate::geom::{cross, dot, norm, sub, unit, Vec3};
-use crate::mesh::geometry::triangle_areas;
+use crate::geom::{cross, dot, norm, sub, unit};
+use crate::mesh::geometry::{face_normals, triangle_areas};
 use crate::mesh::Mesh;
 
 /// Anisotropy `|λ1 − λ2| / (|λ1| + |λ2|)` below this gives no guide; it reaches full weight
@@ -25,14 +25,7 @@ const CURVED: f64 = 6.0;
 
 /// The guide per vertex, as a complex number of modulus in [0, 1] (0: no preference).
 pub fn curvature_guide(mesh: &Mesh, frames: &Frames, diagonal: f64) -> Vec<Complex> {
-    let normals: Vec<Vec3> = mesh
-        .triangles()
-        .iter()
-        .map(|t| {
-            let p = t.map(|v| mesh.position(v));
-            unit(cross(sub(p[1], p[0]), sub(p[2], p[0])))
-        })
-        .collect();
+    let normals = face_normals(mesh);
     // Signed dihedral angle times length of every edge.
     let bend: Vec<f64> = (0..mesh.n_edges() as u32)
         .map(|e| {

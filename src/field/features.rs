@@ -5,8 +5,8 @@
 //! vertices where other than two sharp edges meet, or where the line turns sharply. Small
 //! groups of sharp edges (noise on scanned surfaces) are dropped.
 
-use crate::geom::{cross, dot, norm, sub, unit};
-use crate::mesh::geometry::bounding_box;
+use crate::geom::{dot, norm, sub, unit};
+use crate::mesh::geometry::{bounding_box, face_normals};
 use crate::mesh::Mesh;
 
 
@@ -35,14 +35,7 @@ const MIN_GROUP_LENGTH: f64 = 0.1;
 /// Finds the sharp edges of `mesh` (dihedral angle above `angle_deg`) and their lines.
 pub fn find_features(mesh: &Mesh, angle_deg: f64) -> Features {
     let ne = mesh.n_edges();
-    let normals: Vec<[f64; 3]> = mesh
-        .triangles()
-        .iter()
-        .map(|t| {
-            let p = t.map(|v| mesh.position(v));
-            unit(cross(sub(p[1], p[0]), sub(p[2], p[0])))
-        })
-        .collect();
+    let normals = face_normals(mesh);
     let limit = angle_deg.to_radians();
     let dihedral: Vec<f64> = (0..ne as u32)
         .map(|e| {

@@ -8,7 +8,7 @@
 //! of the edge seen from `j` minus its angle seen from `i`.
 
 use crate::geom::{add, cross, dot, scale, sub, unit, Vec3};
-use crate::mesh::geometry::corner_angles;
+use crate::mesh::geometry::{corner_angles, face_normals};
 use crate::mesh::{Mesh, NONE};
 use std::f64::consts::PI;
 
@@ -40,10 +40,10 @@ impl Frames {
     /// first outgoing edge. Isolated vertices get an arbitrary frame.
     pub fn new(mesh: &Mesh) -> Frames {
         let angles = corner_angles(mesh);
+        let face_normal = face_normals(mesh);
         let mut normal = vec![[0.0; 3]; mesh.n_vertices()];
         for (f, t) in mesh.triangles().iter().enumerate() {
-            let p = t.map(|v| mesh.position(v));
-            let n = unit(cross(sub(p[1], p[0]), sub(p[2], p[0])));
+            let n = face_normal[f];
             for k in 0..3 {
                 normal[t[k] as usize] = add(normal[t[k] as usize], scale(angles[f][k], n));
             }

@@ -2,7 +2,7 @@
 //! corner angles and the cotangent weights of the paper's eq. 2.
 
 use super::{Mesh, NONE};
-use crate::geom::{angle, cotangent, cross, norm, sub, Vec3};
+use crate::geom::{angle, cotangent, cross, norm, sub, unit, Vec3};
 
 /// Length of every edge, indexed by edge.
 pub fn edge_lengths(mesh: &Mesh) -> Vec<f64> {
@@ -21,6 +21,17 @@ pub fn triangle_areas(mesh: &Mesh) -> Vec<f64> {
         .map(|t| {
             let [a, b, c] = t.map(|v| mesh.position(v));
             0.5 * norm(cross(sub(b, a), sub(c, a)))
+        })
+        .collect()
+}
+
+/// Unit normal of every triangle (by its orientation), indexed by face.
+pub fn face_normals(mesh: &Mesh) -> Vec<Vec3> {
+    mesh.triangles()
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| mesh.position(v));
+            unit(cross(sub(b, a), sub(c, a)))
         })
         .collect()
 }
