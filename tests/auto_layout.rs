@@ -81,3 +81,71 @@ fn shared_meshes_get_valid_layouts_and_quads() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// The sheared cube's proposal is its 12 edges, tagged: its 8 corners are feature corners and
+/// its 12 sharp edges feature lines, and nothing inside a side needs a trace (the field is
+/// constant on each flat side, with no singularity).
+#[test]
+fn the_sheared_cube_gets_its_twelve_edges_tagged() {
+    let (mesh, reference) = common::sheared_cube(8);
+    let p = propose_layout(&mesh, &LayoutOptions::default()).unwrap();
+    assert_eq!(p.surface.faces.len(), 6);
+    assert_eq!(p.layout.edges.len(), 12, "{:?}", p.layout.edges);
+    assert!(p.layout.edges.iter().all(|e| e.align));
+    let mut nodes = p.surface.node_vertex.clone();
+    let mut corners = reference.node_vertex.clone();
+    nodes.sort_unstable();
+    corners.sort_unstable();
+    assert_eq!(nodes, corners);
+    assert_eq!(p.surface.t_vertex_count(), 0);
+}
+
+/// Every sharp edge of fandisk lies on a tagged layout curve: its feature lines are edge loops.
+#[test]
+fn fandisk_sharp_edges_are_tagged_curves() {
+    use quadlay::layout::curve::CurvePoint;
+    let mesh = load_mesh("fandisk.obj");
+    let p = propose_layout(&mesh, &LayoutOptions::default()).unwrap();
+    let mut on_tagged = vec![false; mesh.n_edges()];
+    for c in p.surface.curves.iter().filter(|c| c.align) {
+        for w in c.curve.points.windows(2) {
+            if let [CurvePoint::Vertex(a), CurvePoint::Vertex(b)] = w {
+                if let Some(h) = mesh.find_halfedge(*a, *b) {
+                    on_tagged[mesh.edge(h) as usize] = true;
+                }
+            }
+        }
+    }
+    let sharp: Vec<usize> = (0..mesh.n_edges()).filter(|&e| p.field.features.sharp[e]).collect();
+    assert!(sharp.len() > 100, "fandisk has {} sharp edges", sharp.len());
+    let missed: Vec<usize> = sharp.iter().copied().filter(|&e| !on_tagged[e]).collect();
+    println!("fandisk: {} sharp edges, {} not on a tagged curve", sharp.len(), missed.len());
+    for &e in &missed {
+        let (a, b) = (mesh.from_vertex(2 * e as u32), mesh.to_vertex(2 * e as u32));
+        let in_line = p.field.features.lines.iter().any(|l| l.windows(2).any(|w| (w[0] == a && w[1] == b) || (w[0] == b && w[1] == a)));
+        let node = |v: u32| p.surface.node_vertex.contains(&v);
+        println!("  edge {e}: {a}-{b} in a line {in_line}, nodes {} {}, on any curve {}", node(a), node(b),
+            p.surface.curves.iter().any(|c| c.curve.points.windows(2).any(|w| matches!(w, [CurvePoint::Vertex(x), CurvePoint::Vertex(y)] if (*x == a && *y == b) || (*x == b && *y == a)))));
+    }
+    assert!(missed.is_empty(), "sharp edges not on tagged curves: {missed:?}");
+}
+
+/// A torus has a field without singularities, and its proposal has none either: every node
+/// is where four curves meet or a T-junction (three, one of them straight through).
+#[test]
+fn a_torus_gets_a_layout_without_singularities() {
+    let mesh = common::torus(48, 16);
+    let p = propose_layout(&mesh, &LayoutOptions::default()).unwrap();
+    assert!(p.field.singularities.is_empty(), "{:?}", p.field.singularities);
+    let mut degree = vec![0; p.surface.node_vertex.len()];
+    for e in &p.layout.edges {
+        degree[e.nodes[0] as usize] += 1;
+        degree[e.nodes[1] as usize] += 1;
+    }
+    // A valence-3 or -5 layout node would be a singularity of the layout's quads: T-junctions
+    // (degree 3) are allowed only as T-vertices, which the faces list.
+    let t_nodes: std::collections::HashSet<u32> = p.surface.faces.iter().flat_map(|f| f.t_vertices()).collect();
+    for (n, &d) in degree.iter().enumerate() {
+        assert!(d == 4 || (d == 3 && t_nodes.contains(&(n as u32))), "node {n} has {d} curves");
+    }
+}

@@ -148,9 +148,10 @@ impl CurveGraph {
         d
     }
 
-    /// Removes dangling segments (an end node reached by nothing else), joins the two
+    /// Removes dangling traces (an end node reached by nothing else), joins the two
     /// segments at an unpinned node where only they meet, and drops nodes nothing reaches.
-    /// Boundary nodes count the two boundary pieces at them.
+    /// Boundary nodes count the two boundary pieces at them. Dangling feature segments stay
+    /// (see [`CurveGraph::dangling_feature_ends`]).
     pub fn prune(&mut self) {
         loop {
             let d = self.degrees();
@@ -158,7 +159,7 @@ impl CurveGraph {
             for s in self.live().collect::<Vec<_>>() {
                 let p = &self.segments[s as usize].path;
                 let dangling = [p[0], p[p.len() - 1]].iter().any(|&v| d[v as usize] == 1 && !self.boundary[v as usize]);
-                if dangling {
+                if dangling && !self.segments[s as usize].feature {
                     self.remove(s);
                     changed = true;
                 }
@@ -182,6 +183,27 @@ impl CurveGraph {
                 return;
             }
         }
+    }
+
+    /// The ends of feature segments that nothing else reaches, with the direction the
+    /// feature arrives in (from the segment's second-to-last vertex): where a trace must
+    /// continue the line, or the line will be a slit.
+    pub fn dangling_feature_ends(&self, mesh: &Mesh) -> Vec<(u32, [f64; 3])> {
+        let d = self.degrees();
+        let mut ends = Vec::new();
+        for s in self.live() {
+            let seg = &self.segments[s as usize];
+            if !seg.feature {
+                continue;
+            }
+            let p = &seg.path;
+            for (end, inner) in [(p[0], p[1]), (p[p.len() - 1], p[p.len() - 2])] {
+                if d[end as usize] == 1 && !self.boundary[end as usize] {
+                    ends.push((end, crate::geom::sub(mesh.position(end), mesh.position(inner))));
+                }
+            }
+        }
+        ends
     }
 
     /// Joins the two segments that end at `v` into one, if they are of one kind and distinct.

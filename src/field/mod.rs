@@ -17,6 +17,7 @@ pub mod propose;
 pub mod separatrix;
 pub mod singularities;
 pub mod trace;
+pub mod waypoints;
 
 pub use complex::Complex;
 pub use features::{find_features, Features};

@@ -5,21 +5,25 @@
 //! 2. Feature lines and the boundary (with nodes at its corners, at least four per loop)
 //!    are curves from the start.
 //! 3. Separatrices leave every singular vertex, and traces continue feature lines that end
-//!    inside a smooth region; they grow as a motorcycle graph ([`Motorcycles`]).
+//!    inside a smooth region (tagged and kept like the lines, and continued again should a
+//!    repair take away what they ended on); they grow as a motorcycle graph of streamlines
+//!    across triangles, each kept as the vertex path nearest it ([`Motorcycles`]).
 //! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
 //!    not a disk (a handle, a sphere without singularities) gets a cross of traces from its
 //!    deepest vertex; dangling traces go; a face with no vertex inside loses a trace; a face
 //!    with fewer than four nodes gets one more on its boundary; faces are split by more traces
 //!    until there are about as many as asked for.
-//! 5. The graph is written as a layout file (nodes on vertices, every curve through its
-//!    vertices as waypoints, feature curves tagged) and checked with [`build_layout`] and the
-//!    sample-count equations; faces with a feature or boundary side get general quad charts,
+//! 5. The graph is written as a layout file (nodes on vertices, feature curves through all
+//!    their vertices and tagged, traces through the few vertices that keep the geodesic on
+//!    them, [`sparse_waypoints`], or through all where that lets curves meet) and checked
+//!    with [`build_layout`] and the sample-count equations; faces with a feature or boundary side get general quad charts,
 //!    the others rectangles (the paper's Section 5).
 
 use super::faces::{analyze, FaceInfo};
 use super::graph::CurveGraph;
 use super::separatrix::separatrix_directions;
 use super::trace::{Motorcycles, TraceEnd, BLOCKED};
+use super::waypoints::sparse_waypoints;
 use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
@@ -138,6 +142,7 @@ fn attempt(
             }
         }
     }
+    let continuations = moto.traces.len();
     for &c in &field.features.corners {
         if field.features.degree[c as usize] == 1 && !mesh.is_boundary_vertex(c) {
             if let Some(h) = mesh.outgoing(c).find(|&h| field.features.sharp[mesh.edge(h) as usize]) {
@@ -146,20 +151,37 @@ fn attempt(
         }
     }
     moto.run();
-    add_traces(&mut g, moto);
+    add_traces(&mut g, moto, continuations);
 
     let mut seeds_left = MAX_SEED_ROUNDS;
     let mut rejections = 0;
+    // Segments whose sparse waypoints let their curve meet another: written with every vertex.
+    let mut dense = vec![false; g.segments.len()];
     for _ in 0..MAX_ROUNDS {
         if repair(mesh, field, &mut g, options.patches, diag, &mut seeds_left)? {
             continue;
         }
-        let rejected = match write(mesh, field, &g) {
+        dense.resize(g.segments.len(), false);
+        let rejected = match write(mesh, field, &g, &dense) {
             Ok(done) => return Ok(done),
             Err(e) => e,
         };
         // Simplify where the reader or the counts refused, and try again.
+        let live: Vec<u32> = g.live().collect();
+        let sparse = |i: u32| live.get(i as usize).copied().filter(|&s| !dense[s as usize]);
         let removed = match &rejected {
+            // First follow the paths more closely, then give up a trace.
+            Rejected::Layout(LayoutError::CurvesMeet { a, b, .. }) if [a, b].iter().any(|c| c.edge().and_then(sparse).is_some()) => {
+                let to_densify: Vec<u32> = [a, b].iter().filter_map(|c| c.edge().and_then(sparse)).collect();
+                for s in to_densify {
+                    dense[s as usize] = true;
+                }
+                true
+            }
+            Rejected::Layout(LayoutError::NoPath { edge, .. }) if sparse(*edge as u32).is_some() => {
+                dense[live[*edge] as usize] = true;
+                true
+            }
             Rejected::Layout(LayoutError::CurvesMeet { a: CurveSource::Edge(i), b: CurveSource::Edge(j), .. }) => {
                 remove_trace(&mut g, None, &[*i as u32, *j as u32])
             }
@@ -183,11 +205,13 @@ fn owners(mesh: &Mesh, g: &CurveGraph) -> Vec<u32> {
     (0..mesh.n_vertices() as u32).map(|v| if g.taken(v) { BLOCKED } else { NONE }).collect()
 }
 
-/// Adds the traces that ended on something to the graph.
-fn add_traces(g: &mut CurveGraph, moto: Motorcycles) {
-    for t in moto.traces {
+/// Adds the traces that ended on something to the graph. Traces from `continuations` on continue feature lines: they are kept and tagged like the
+/// lines (a crease that fades out goes on as an edge loop), so no repair leaves the line
+/// dangling for the pruning to take away.
+fn add_traces(g: &mut CurveGraph, moto: Motorcycles, continuations: usize) {
+    for (i, t) in moto.traces.into_iter().enumerate() {
         if t.end == TraceEnd::Hit && t.path.len() >= 2 {
-            g.add_path(&t.path, false);
+            g.add_path(&t.path, i >= continuations);
         }
     }
     g.prune();
@@ -300,6 +324,20 @@ fn repair(
     seeds_left: &mut usize,
 ) -> Result<bool, String> {
     g.prune();
+    let ends = g.dangling_feature_ends(mesh);
+    if !ends.is_empty() && *seeds_left > 0 {
+        // A repair took away what a feature line ended on: continue it again.
+        *seeds_left -= 1;
+        let mut moto = Motorcycles::new(mesh, field, owners(mesh, g), MAX_TRACE_LENGTH * diag);
+        for &(v, d) in &ends {
+            moto.launch(v, d);
+        }
+        moto.run();
+        add_traces(g, moto, 0);
+        if g.dangling_feature_ends(mesh).len() < ends.len() {
+            return Ok(true);
+        }
+    }
     let fa = analyze(mesh, g);
     let not_disk: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.euler != 1).collect();
     if !not_disk.is_empty() {
@@ -371,7 +409,7 @@ fn seed(mesh: &Mesh, field: &CrossField, g: &mut CurveGraph, seeds: &[u32], diag
         }
     }
     moto.run();
-    add_traces(g, moto);
+    add_traces(g, moto, usize::MAX);
 }
 
 /// A vertex on the boundary of face `f` (inside one of its segments, or on the mesh
@@ -506,7 +544,7 @@ impl fmt::Display for Rejected {
 }
 
 /// The layout file of the graph, checked by the layout reader and the sample-count equations.
-fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph) -> Result<(Layout, SurfaceLayout), Rejected> {
+fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool]) -> Result<(Layout, SurfaceLayout), Rejected> {
     let nodes: Vec<u32> = (0..mesh.n_vertices() as u32).filter(|&v| g.node[v as usize]).collect();
     let mut index = vec![NONE; mesh.n_vertices()];
     for (i, &v) in nodes.iter().enumerate() {
@@ -517,10 +555,12 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph) -> Result<(Layout, Sur
         .map(|s| {
             let seg = &g.segments[s as usize];
             let p = &seg.path;
+            // Feature lines run along mesh edges: they keep every vertex.
+            let via = if seg.feature || dense[s as usize] { p[1..p.len() - 1].to_vec() } else { sparse_waypoints(mesh, p) };
             EdgeSpec {
                 nodes: [index[p[0] as usize], index[p[p.len() - 1] as usize]],
                 align: seg.feature,
-                via: p[1..p.len() - 1].iter().map(|&v| Location::Vertex(v as u64)).collect(),
+                via: via.into_iter().map(|v| Location::Vertex(v as u64)).collect(),
             }
         })
         .collect();
@@ -536,10 +576,24 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph) -> Result<(Layout, Sur
     // Corners where the face turns most, measured along the curves rather than on their
     // first mesh edge (a trace zig-zags along edges); faces with a side on a feature line
     // or the boundary get general quadrilateral charts.
+    let mut specs: Vec<PatchSpec> = Vec::new();
     for f in &surface.faces {
         let corners = corners_of(mesh, field, &surface, f);
         let chart = if f.pieces.iter().any(|d| surface.curves[d.curve as usize].align) { ChartType::Quad } else { ChartType::Rect };
-        layout.patches.push(PatchSpec { corners, chart: Some(chart) });
+        specs.push(PatchSpec { corners, chart: Some(chart) });
+    }
+    // A patches entry names its face by its corners; where two faces share all four (a
+    // torus cut into two rings of faces), neither can be named, and both keep the reader's
+    // corners and the default chart.
+    let key = |p: &PatchSpec| {
+        let mut c = p.corners;
+        c.sort_unstable();
+        c
+    };
+    for p in &specs {
+        if specs.iter().filter(|q| key(q) == key(p)).count() == 1 {
+            layout.patches.push(p.clone());
+        }
     }
     let surface = build_layout(mesh, &layout).map_err(Rejected::Layout)?;
     let h = default_edge_length(mesh);

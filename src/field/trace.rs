@@ -1,10 +1,13 @@
-//! Streamlines of the cross field walked along mesh edges, grown together as a motorcycle
-//! graph (Eppstein, Goodrich, Kim, Tamstorf 2008; method-notes §11).
+//! Streamlines of the cross field, grown together as a motorcycle graph (Eppstein, Goodrich,
+//! Kim, Tamstorf 2008; method-notes §11), each kept as the path of mesh vertices nearest it.
 //!
-//! A trace is a path of mesh vertices. Each step follows the arm of the cross nearest the
-//! trace's heading and goes to the neighbour that stays closest to the ideal streamline (a
-//! straight line along that arm through the trace's ideal position, kept as an offset from
-//! the current vertex), so the path zig-zags along the streamline without drifting off it.
+//! A trace walks across triangles: in each it goes straight along the field, the arm of each
+//! corner's cross nearest the trace's heading blended by the entry point's barycentric
+//! weights, to the triangle's boundary, and on into the next triangle. Of every mesh edge it
+//! crosses, the nearer end joins the trace's vertex path; consecutive such vertices share a
+//! triangle, so the path runs along mesh edges, within half an edge of the streamline, and
+//! the streamline does not drift as a walk from vertex to vertex does (the next vertex's
+//! direction always a neighbour's, up to 30° off the field on a coarse mesh).
 //! Paths of mesh edges that share no vertex cannot cross, so the layout curves made from
 //! them meet only where a trace ends on another: the motorcycle rule. All traces grow in the
 //! order of their length; a trace stops on the first vertex that is already taken (another
@@ -12,7 +15,7 @@
 
 use super::frames::tangential;
 use super::CrossField;
-use crate::geom::{dot, norm, sub, unit, Vec3};
+use crate::geom::{cross, dot, norm, sub, unit, Vec3};
 use crate::mesh::{Mesh, NONE};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -23,9 +26,6 @@ pub const BLOCKED: u32 = u32::MAX - 1;
 /// Steps after which a trace that comes next to another curve ends on it (the first steps
 /// leave a node next to its other traces).
 const SNAP_AFTER: usize = 3;
-
-/// A step may leave at most this far from the followed arm (cosine of the angle).
-const MIN_ALIGNMENT: f64 = 0.4;
 
 /// How a trace ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -43,6 +43,11 @@ pub struct Trace {
     pub end: TraceEnd,
 }
 
+/// A ray that misses a triangle's edges by more than this (in edge lengths) ends the trace.
+const MAX_MISS: f64 = 0.25;
+/// A crossing this close to an edge's end (in edge lengths) runs through the vertex.
+const THROUGH_VERTEX: f64 = 1e-4;
+
 /// The growing motorcycle graph: who owns each vertex, and the traces.
 pub struct Motorcycles<'a> {
     mesh: &'a Mesh,
@@ -57,10 +62,19 @@ pub struct Motorcycles<'a> {
 #[derive(Debug, Clone)]
 struct Walker {
     trace: u32,
+    /// Unit direction of the last step (or of the launch).
     heading: Vec3,
-    /// Ideal streamline position minus the current vertex's position.
-    offset: Vec3,
+    /// The triangle the walker is in, and the halfedge of it by which it came in (`NONE` on
+    /// the first triangle, entered at the trace's start vertex).
+    face: u32,
+    entry: u32,
+    /// Where on the triangle's boundary the walker is.
+    point: Vec3,
+    /// The mesh vertex the walker stands on (its start, or a vertex the streamline ran
+    /// through), or `NONE` inside a mesh edge.
+    vertex: u32,
     length: f64,
+    steps: usize,
 }
 
 /// Min-heap entry by length.
@@ -88,91 +102,174 @@ impl<'a> Motorcycles<'a> {
         Motorcycles { mesh, field, owner, traces: Vec::new(), pending: Vec::new(), max_length }
     }
 
-    /// Queues a trace leaving `start` along `heading` (a tangent direction at `start`).
+    /// Queues a trace leaving `start` along `heading` (a tangent direction at `start`); a
+    /// vertex no triangle holds in that direction starts nothing.
     pub fn launch(&mut self, start: u32, heading: Vec3) {
         let trace = self.traces.len() as u32;
         self.traces.push(Trace { path: vec![start], end: TraceEnd::Free });
-        self.pending.push(Walker { trace, heading: unit(heading), offset: [0.0; 3], length: 0.0 });
+        let Some(face) = self.sector(start, heading) else { return };
+        let point = self.mesh.position(start);
+        let walker = Walker { trace, heading: unit(heading), face, entry: NONE, point, vertex: start, length: 0.0, steps: 0 };
+        self.pending.push(walker);
+    }
+
+    /// The triangle at `v` whose corner holds direction `d` (the one it points into most).
+    fn sector(&self, v: u32, d: Vec3) -> Option<u32> {
+        let mesh = self.mesh;
+        let p = mesh.position(v);
+        mesh.outgoing(v)
+            .filter(|&h| mesh.face(h) != NONE)
+            .map(|h| {
+                let a = unit(sub(mesh.position(mesh.to_vertex(h)), p));
+                let b = unit(sub(mesh.position(mesh.to_vertex(mesh.next(h))), p));
+                // Inside the corner when d lies between its two edges: score the smaller side.
+                let n = cross(a, b);
+                let inside = dot(cross(a, d), n).min(dot(cross(d, b), n));
+                (inside, mesh.face(h))
+            })
+            .max_by(|x, y| x.0.total_cmp(&y.0))
+            .map(|x| x.1)
     }
 
     /// Grows every queued trace until it ends (motorcycle rule).
     pub fn run(&mut self) {
         let mut walkers: Vec<Walker> = std::mem::take(&mut self.pending);
         let mut heap: BinaryHeap<Next> = (0..walkers.len()).map(|k| Next(0.0, k)).collect();
+        let max_steps = 4 * self.mesh.n_faces() + 16;
         while let Some(Next(_, k)) = heap.pop() {
-            let w = &walkers[k];
-            let t = w.trace as usize;
-            let v = *self.traces[t].path.last().unwrap_or(&NONE);
-            let first = self.traces[t].path.len() == 1;
-            let back = if first { NONE } else { self.traces[t].path[self.traces[t].path.len() - 2] };
-            let Some((next, heading, offset, step)) = self.step(v, back, w, first) else { continue };
-            let path = &mut self.traces[t].path;
-            path.push(next);
-            if self.owner[next as usize] != NONE {
-                self.traces[t].end = TraceEnd::Hit;
-                continue;
-            }
-            // Next to another curve: end on it rather than run beside it one edge away,
-            // which would leave a face with no vertex inside.
-            if path.len() > SNAP_AFTER {
-                let recent = &path[path.len() - 3..];
-                let p = self.mesh.position(next);
-                let near = self
-                    .mesh
-                    .neighbors(next)
-                    .filter(|&x| self.owner[x as usize] != NONE && !recent.contains(&x))
-                    .min_by(|&a, &b| {
-                        norm(sub(self.mesh.position(a), p)).total_cmp(&norm(sub(self.mesh.position(b), p)))
-                    });
-                if let Some(x) = near {
-                    self.owner[next as usize] = w.trace;
-                    self.traces[t].path.push(x);
+            let t = walkers[k].trace as usize;
+            let Some((w, crossed)) = self.step(&walkers[k]) else { continue };
+            if let Some(next) = crossed.filter(|&x| Some(&x) != self.traces[t].path.last()) {
+                let path = &mut self.traces[t].path;
+                path.push(next);
+                if self.owner[next as usize] != NONE {
                     self.traces[t].end = TraceEnd::Hit;
                     continue;
                 }
+                // Next to another curve: end on it rather than run beside it one edge away,
+                // which would leave a face with no vertex inside.
+                if path.len() > SNAP_AFTER {
+                    let recent = &path[path.len() - 3..];
+                    let p = self.mesh.position(next);
+                    let near = self
+                        .mesh
+                        .neighbors(next)
+                        .filter(|&x| self.owner[x as usize] != NONE && !recent.contains(&x))
+                        .min_by(|&a, &b| {
+                            norm(sub(self.mesh.position(a), p)).total_cmp(&norm(sub(self.mesh.position(b), p)))
+                        });
+                    if let Some(x) = near {
+                        self.owner[next as usize] = w.trace;
+                        self.traces[t].path.push(x);
+                        self.traces[t].end = TraceEnd::Hit;
+                        continue;
+                    }
+                }
+                self.owner[next as usize] = w.trace;
             }
-            self.owner[next as usize] = w.trace;
-            let length = w.length + step;
-            if length > self.max_length {
+            if w.length > self.max_length || w.steps > max_steps {
                 continue;
             }
-            walkers[k] = Walker { trace: w.trace, heading, offset, length };
-            heap.push(Next(length, k));
+            heap.push(Next(w.length, k));
+            walkers[k] = w;
         }
     }
 
-    /// One step from `v` (not back to `back`): the next vertex, heading, offset and step length.
-    fn step(&self, v: u32, back: u32, w: &Walker, first: bool) -> Option<(u32, Vec3, Vec3, f64)> {
-        let mesh = self.mesh;
-        let n = self.field.frames.normal[v as usize];
-        let dir = if first {
-            unit(tangential(w.heading, n))
-        } else {
-            let arms = self.field.arms(v);
-            let best = arms.iter().copied().max_by(|a, b| dot(*a, w.heading).total_cmp(&dot(*b, w.heading)))?;
-            best
-        };
-        let p = mesh.position(v);
-        let ideal = [p[0] + w.offset[0], p[1] + w.offset[1], p[2] + w.offset[2]];
-        let mut best: Option<(f64, u32, Vec3, f64)> = None;
-        for u in mesh.neighbors(v) {
-            let q = mesh.position(u);
-            let e = sub(q, p);
-            let len = norm(e);
-            if u == back || dot(e, dir) < MIN_ALIGNMENT * len {
-                continue;
-            }
-            let r = sub(q, ideal);
-            let along = dot(r, dir);
-            let lat = sub(r, [dir[0] * along, dir[1] * along, dir[2] * along]);
-            let miss = norm(lat);
-            if best.as_ref().is_none_or(|b| miss < b.0) {
-                best = Some((miss, u, lat, len));
+    /// The field's direction in triangle `f` at `point`, nearest `heading`: each corner's arm
+    /// nearest it, blended by barycentric weight, in the triangle's plane.
+    fn direction(&self, f: u32, point: Vec3, heading: Vec3, n: Vec3) -> Vec3 {
+        let corners = self.mesh.triangles()[f as usize];
+        let p = corners.map(|v| self.mesh.position(v));
+        let area = |a: Vec3, b: Vec3, c: Vec3| dot(cross(sub(b, a), sub(c, a)), n).max(0.0);
+        let w = [area(point, p[1], p[2]), area(p[0], point, p[2]), area(p[0], p[1], point)];
+        let total = (w[0] + w[1] + w[2]).max(1e-300);
+        let mut d = [0.0; 3];
+        for k in 0..3 {
+            let arm = self.field.arms(corners[k]).into_iter().map(|a| tangential(a, n)).max_by(|a, b| dot(*a, heading).total_cmp(&dot(*b, heading)));
+            if let Some(a) = arm {
+                let a = unit(a);
+                for i in 0..3 {
+                    d[i] += w[k] / total * a[i];
+                }
             }
         }
-        let (_, u, lat, len) = best?;
-        let nu = self.field.frames.normal[u as usize];
-        let offset = tangential([-lat[0], -lat[1], -lat[2]], nu);
-        Some((u, dir, offset, len))
+        if norm(d) < 1e-12 {
+            heading
+        } else {
+            unit(d)
+        }
+    }
+
+    /// One step of walker `w` across its triangle: the walker in the next triangle and the
+    /// nearer end of the mesh edge it crossed (or the vertex it ran through); `None` where
+    /// the trace ends (a degenerate triangle, no way on).
+    fn step(&self, w: &Walker) -> Option<(Walker, Option<u32>)> {
+        let mesh = self.mesh;
+        let f = w.face;
+        let p = mesh.triangles()[f as usize].map(|v| mesh.position(v));
+        let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+        if norm(n) < 1e-300 {
+            return None;
+        }
+        let n = unit(n);
+        let heading = unit(tangential(w.heading, n));
+        // Leaving the start vertex, the launch direction (the field has no direction at a
+        // singularity); at a vertex run through, its cross's arm; else the field's blend.
+        let d = if w.steps == 0 {
+            heading
+        } else if w.vertex != NONE {
+            let arms = self.field.arms(w.vertex).map(|a| tangential(a, n));
+            arms.into_iter().max_by(|a, b| dot(*a, heading).total_cmp(&dot(*b, heading))).map_or(heading, unit)
+        } else {
+            self.direction(f, w.point, heading, n)
+        };
+        // The exit: the edge of f (not the one entered by, none at the vertex stood on) that
+        // the ray crosses first; a ray along an edge, or a hair outside the triangle, leaves
+        // by the edge it misses least.
+        let mut best: Option<(f64, f64, u32, f64)> = None;
+        for k in 0..3 {
+            let h = mesh.face_halfedge(f, k);
+            let (i, j) = (mesh.from_vertex(h), mesh.to_vertex(h));
+            if h == w.entry || i == w.vertex || j == w.vertex {
+                continue;
+            }
+            let (a, b) = (mesh.position(i), mesh.position(j));
+            let e = sub(b, a);
+            // point + t d = a + s e, in the plane: cross with n to solve the 2×2 system.
+            let denom = dot(cross(d, e), n);
+            if denom.abs() < 1e-300 {
+                continue;
+            }
+            let r = sub(a, w.point);
+            let t = dot(cross(r, e), n) / denom;
+            let s = dot(cross(r, d), n) / denom;
+            let miss = (-s).max(s - 1.0).max(0.0);
+            if t > 0.0 && best.is_none_or(|b| (miss, t) < (b.0, b.1)) {
+                best = Some((miss, t, h, s.clamp(0.0, 1.0)));
+            }
+        }
+        let (_, t, h, s) = best.filter(|b| b.0 < MAX_MISS)?;
+        let point = [w.point[0] + t * d[0], w.point[1] + t * d[1], w.point[2] + t * d[2]];
+        let length = w.length + t;
+        let steps = w.steps + 1;
+        if !(THROUGH_VERTEX..=1.0 - THROUGH_VERTEX).contains(&s) {
+            // Through a vertex: go on from it into the triangle the direction points into.
+            let x = if s < 0.5 { mesh.from_vertex(h) } else { mesh.to_vertex(h) };
+            let Some(face) = self.sector(x, d) else {
+                return Some((Walker { steps: usize::MAX, ..w.clone() }, Some(x)));
+            };
+            let walker = Walker { trace: w.trace, heading: d, face, entry: NONE, point: mesh.position(x), vertex: x, length, steps };
+            return Some((walker, Some(x)));
+        }
+        let nearer = if s < 0.5 { mesh.from_vertex(h) } else { mesh.to_vertex(h) };
+        let twin = mesh.twin(h);
+        let next_face = mesh.face(twin);
+        let walker = Walker { trace: w.trace, heading: d, face: next_face, entry: twin, point, vertex: NONE, length, steps };
+        if next_face == NONE {
+            // Out over the boundary: the nearer end is a boundary vertex, taken, so the
+            // trace ends there; a walker off the surface never steps again.
+            return Some((Walker { face: f, entry: h, steps: usize::MAX, ..walker }, Some(nearer)));
+        }
+        Some((walker, Some(nearer)))
     }
 }

@@ -189,7 +189,7 @@ pub fn trace_faces(rot: &Rotation, curves: &[(CurveNodes, &Curve)]) -> Vec<Trace
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::layout::curve::trace_curve;
 
