@@ -30,6 +30,31 @@ const out = execFileSync('cargo', ['run', '--quiet', '--release', '--example', '
   { cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
 const native = out.trim().split('\n').map((l) => JSON.parse(l));
 
+// Issue 22's targets for the automatic layout remeshed at about 4000 quads, each at most:
+// Hausdorff (% of the bounding-box diagonal), mean angle deviation (deg), irregular vertices;
+// besides, quads within 15 % of those asked, none folded, and bunny_28k's layout in 0.5 s.
+const AUTO_TARGETS = {
+  'nefertiti.obj': { hausdorff_percent: 1.35, angle_deviation_mean_deg: 2.5, irregular_vertices: 11 },
+  'eight.obj': { hausdorff_percent: 0.40, angle_deviation_mean_deg: 4.9, irregular_vertices: 68 },
+  'bunny_1k8.obj': { hausdorff_percent: 1.11, angle_deviation_mean_deg: 4.7, irregular_vertices: 64 },
+  'mushroom.obj': { hausdorff_percent: 0.69, angle_deviation_mean_deg: 4.0, irregular_vertices: 57 },
+  'fandisk.obj': { hausdorff_percent: 0.87, angle_deviation_mean_deg: 3.9, irregular_vertices: 67 },
+  'bunny_28k.obj': { hausdorff_percent: 1.36, angle_deviation_mean_deg: 4.9, irregular_vertices: 74, layout_ms: 500 },
+  'elephant_44k.obj': { hausdorff_percent: 1.40, angle_deviation_mean_deg: 7.0, irregular_vertices: 145 },
+};
+console.log('bench: automatic layout, native (cargo run --release --example bench -- --auto-layout)');
+const autoOut = execFileSync('cargo', ['run', '--quiet', '--release', '--example', 'bench', '--', '--auto-layout',
+  ...Object.keys(AUTO_TARGETS).map((m) => paths[MESHES.indexOf(m)])],
+{ cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+const autoLayout = autoOut.trim().split('\n').map((l) => {
+  const row = JSON.parse(l);
+  const targets = { ...AUTO_TARGETS[row.mesh], quads: [0.85, 1.15].map((f) => Math.round(f * row.quads_asked)), folded_quads: 0 };
+  // Whether each measure meets its target; a refused row meets none but the layout time.
+  const meets = Object.fromEntries(Object.entries(targets).map(([k, t]) => [k,
+    Array.isArray(t) ? row[k] >= t[0] && row[k] <= t[1] : row[k] <= t]));
+  return { mesh: row.mesh, ...row, targets, meets };
+});
+
 // The fastest of at least 3 runs and half a second: on a shared machine other work only ever
 // adds time, and swings a median by a third.
 function fastestMs(f) {
@@ -117,6 +142,13 @@ const results = {
   native,
   wasm_node: wasm,
   wasm_suggest_solve_remesh: suggest,
+  auto_layout: {
+    what: 'native, per shared mesh: layout_ms the fastest of up to 3 runs of propose_layout (layout_runs; fewer past 3 s), ' +
+      'then the default parameterization and the extraction at about quads_asked quads: quads, hausdorff_percent (of the ' +
+      'bounding-box diagonal), angle_deviation_mean_deg, irregular_vertices, folded_quads; error: why the layout, ' +
+      'parameterization or extraction refused instead; targets (issue 22; at most, quads a range) and whether each is met',
+    rows: autoLayout,
+  },
 };
 mkdirSync(join(root, 'bench'), { recursive: true });
 writeFileSync(join(root, 'bench/results.json'), JSON.stringify(results, null, 2) + '\n');
@@ -143,4 +175,21 @@ console.log(suggest.error
   ? `\nsuggest + solve + remesh, wasm, ${suggest.mesh}: failed: ${suggest.error}`
   : `\nsuggest + solve + remesh, wasm, ${suggest.mesh}: ${suggest.total_ms.toFixed(0)} ms (suggest ${suggest.suggest_ms.toFixed(0)} ms; ` +
     `${suggest.faces} faces, ${suggest.quads} quads; target 1100 ms)`);
+
+console.log('\nautomatic layout, native, remeshed at about 4000 quads: each value, its target, whether it meets it');
+console.log(`${'mesh'.padEnd(18)}${['layout ms', 'quads', 'Hausdorff %', 'angle °', 'irregular', 'folded']
+  .map((h) => h.padStart(22)).join('')}`);
+const autoCell = (row, key, digits) => {
+  const t = row.targets[key];
+  if (row[key] === undefined && t === undefined) return '-'.padStart(22);
+  const value = row[key] === undefined ? '-' : row[key].toFixed(digits);
+  const target = t === undefined ? '' : Array.isArray(t) ? ` (${t[0]}-${t[1]})` : ` (≤${t})`;
+  return `${value}${target}${t === undefined ? '' : row.meets[key] ? ' yes' : ' no'}`.padStart(22);
+};
+for (const row of autoLayout) {
+  console.log(`${row.mesh.padEnd(18)}${autoCell(row, 'layout_ms', 0)}${autoCell(row, 'quads', 0)}` +
+    `${autoCell(row, 'hausdorff_percent', 2)}${autoCell(row, 'angle_deviation_mean_deg', 1)}` +
+    `${autoCell(row, 'irregular_vertices', 0)}${autoCell(row, 'folded_quads', 0)}`);
+  if (row.error) console.log(`${''.padEnd(18)}refused: ${row.error}`);
+}
 console.log('\nbench: written to bench/results.json');
