@@ -1,0 +1,380 @@
+//! A small dense convex QP with lower bounds on linear forms and fixed variables, solved by
+//! the dual active-set method of Goldfarb and Idnani ("A numerically stable dual method for
+//! solving strictly convex quadratic programs", Math. Programming 27, 1983), the method of
+//! R's `quadprog`:
+//!
+//! minimize ½ Σᵢ wᵢ (aᵢ·z − dᵢ)²  subject to  aᵢ·z ≥ 1 for every row i, z_j = v_j when fixed.
+//!
+//! Why the dual method: it starts from the unconstrained minimum, needs no feasible point,
+//! and proves infeasibility by itself (a violated constraint that no step can satisfy). Above
+//! all, fixing one more variable is one more violated constraint, so the rounding in
+//! [`super::bounded`] continues from the last solution instead of solving again.
+//!
+//! The state is the one of the paper: `J = L⁻ᵀ Q` and an upper triangular `R` with
+//! `L⁻¹ N_A = Q [R; 0]`, where `H = L Lᵀ` is the objective's Hessian and `N_A` the normals of
+//! the active constraints; adding or dropping a constraint is a few Givens rotations. Dense:
+//! `z` has one entry per free piece of the layout (tens to a few hundred), not one per piece.
+
+use super::Row;
+
+/// A constraint of the problem.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Constraint {
+    /// `rows[i]·z ≥ 1`.
+    Bound(usize),
+    /// `sign · z_j ≥ sign · value`, held as an equality (never dropped); the sign makes the
+    /// violated side the one added.
+    Fix { j: usize, value: f64, sign: f64 },
+}
+
+/// A variable's fixing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Fixing {
+    Free,
+    /// Fixed at this value, not (yet) among the active constraints: it holds without them or
+    /// is violated and waits to be added.
+    Pending(f64),
+    /// Fixed at this value and active.
+    Held(f64),
+}
+
+/// Violations below this are rounding noise (counts are tens, not millions).
+const TOL: f64 = 1e-9;
+
+/// The QP and the dual method's state; cloned for each pass of the rounding.
+#[derive(Debug, Clone)]
+pub(super) struct DualQp<'a> {
+    /// Per piece, its count as a linear form in `z`.
+    rows: &'a [Row],
+    k: usize,
+    /// `L⁻ᵀ Q`, row-major `k × k`.
+    j: Vec<f64>,
+    /// `R`, column-major: column `c` (the `c`-th active constraint) at `r[c * k..]`.
+    r: Vec<f64>,
+    active: Vec<Constraint>,
+    /// Lagrange multipliers of `active`.
+    u: Vec<f64>,
+    /// The current minimizer.
+    pub z: Vec<f64>,
+    fixed: Vec<Fixing>,
+    /// Constraints added, so a degenerate problem cannot cycle forever.
+    steps: usize,
+}
+
+/// Why the QP has no solution: the pieces whose bounds (with the fixed variables) conflict.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Conflict {
+    pub pieces: Vec<u32>,
+}
+
+impl<'a> DualQp<'a> {
+    /// The unconstrained minimum of `½ Σᵢ wᵢ (rows[i]·z − d[i])²` over `z ∈ ℝᵏ`. `None` when
+    /// that Hessian is not positive definite (it is when the weights are positive and the
+    /// rows span `ℝᵏ`).
+    pub fn new(rows: &'a [Row], k: usize, weight: &[f64], desired: &[f64]) -> Option<DualQp<'a>> {
+        let mut h = vec![0.0; k * k];
+        let mut g = vec![0.0; k];
+        for ((row, &w), &d) in rows.iter().zip(weight).zip(desired) {
+            for &(a, x) in row {
+                g[a] += w * d * x;
+                for &(b, y) in row {
+                    h[a * k + b] += w * x * y;
+                }
+            }
+        }
+        // H = L Lᵀ, L lower triangular, in place.
+        for c in 0..k {
+            let diag = h[c * k + c] - (0..c).map(|m| h[c * k + m] * h[c * k + m]).sum::<f64>();
+            if diag.is_nan() || diag <= 0.0 {
+                return None;
+            }
+            let diag = diag.sqrt();
+            h[c * k + c] = diag;
+            for i in c + 1..k {
+                let s = h[i * k + c] - (0..c).map(|m| h[i * k + m] * h[c * k + m]).sum::<f64>();
+                h[i * k + c] = s / diag;
+            }
+        }
+        // J = L⁻ᵀ: column c of L⁻¹ is L⁻¹ e_c, i.e. row c of J.
+        let mut j = vec![0.0; k * k];
+        for c in 0..k {
+            for i in c..k {
+                let s = if i == c { 1.0 } else { 0.0 } - (c..i).map(|m| h[i * k + m] * j[c * k + m]).sum::<f64>();
+                j[c * k + i] = s / h[i * k + i];
+            }
+        }
+        // z = H⁻¹ g = J Jᵀ g.
+        let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[i * k + c] * g[i]).sum()).collect();
+        let z = (0..k).map(|i| (0..k).map(|c| j[i * k + c] * jt_g[c]).sum()).collect();
+        Some(DualQp { rows, k, j, r: Vec::new(), active: Vec::new(), u: Vec::new(), z, fixed: vec![Fixing::Free; k], steps: 0 })
+    }
+
+    /// Holds `z_j` at `value` from now on and solves again.
+    ///
+    /// # Errors
+    /// [`Conflict`] if no `z` meets the bounds with the variables fixed so far; the state is
+    /// then spoilt (callers rebuild it).
+    pub fn fix(&mut self, j: usize, value: f64) -> Result<(), Conflict> {
+        self.fixed[j] = Fixing::Pending(value);
+        self.solve()
+    }
+
+    /// Every piece's count at the current `z`.
+    pub fn counts(&self) -> Vec<f64> {
+        self.rows.iter().map(|row| dot(row, &self.z)).collect()
+    }
+
+    pub fn is_fixed(&self, j: usize) -> bool {
+        self.fixed[j] != Fixing::Free
+    }
+
+    /// Pieces whose bound is active (held at one).
+    pub fn pieces_at_one(&self) -> Vec<u32> {
+        self.active_bounds(None)
+    }
+
+    /// The pieces of the active bounds, those whose entry in `involved` is nonzero if given.
+    fn active_bounds(&self, involved: Option<&[f64]>) -> Vec<u32> {
+        let mut pieces: Vec<u32> = self
+            .active
+            .iter()
+            .enumerate()
+            .filter(|&(m, _)| involved.is_none_or(|r| r[m].abs() > 1e-12))
+            .filter_map(|(_, a)| match a {
+                Constraint::Bound(i) => Some(*i as u32),
+                Constraint::Fix { .. } => None,
+            })
+            .collect();
+        pieces.sort_unstable();
+        pieces
+    }
+
+    /// Adds violated constraints, the most violated first, until none is left.
+    ///
+    /// # Errors
+    /// [`Conflict`] if the constraints cannot all hold, or (not seen) if the step count runs
+    /// out on a degenerate problem.
+    pub fn solve(&mut self) -> Result<(), Conflict> {
+        loop {
+            let mut worst: Option<(Constraint, f64)> = None;
+            let mut consider = |c: Constraint, s: f64| {
+                if s < -TOL && worst.is_none_or(|(_, w)| s < w) {
+                    worst = Some((c, s));
+                }
+            };
+            for (i, row) in self.rows.iter().enumerate() {
+                consider(Constraint::Bound(i), dot(row, &self.z) - 1.0);
+            }
+            for (j, fixed) in self.fixed.iter().enumerate() {
+                if let Fixing::Pending(value) = *fixed {
+                    let off = self.z[j] - value;
+                    let sign = if off < 0.0 { 1.0 } else { -1.0 };
+                    consider(Constraint::Fix { j, value, sign }, -off.abs());
+                }
+            }
+            let Some((c, _)) = worst else { return Ok(()) };
+            self.steps += 1;
+            if self.steps > 20 * (self.rows.len() + self.k) + 100 {
+                return Err(self.conflict(c, None));
+            }
+            self.add(c)?;
+        }
+    }
+
+    /// `normal(c)·z − rhs(c)`: negative when `c` is violated.
+    fn slack(&self, c: Constraint) -> f64 {
+        match c {
+            Constraint::Bound(i) => dot(&self.rows[i], &self.z) - 1.0,
+            Constraint::Fix { j, value, sign } => sign * (self.z[j] - value),
+        }
+    }
+
+    /// `Jᵀ n` for the normal `n` of `c`.
+    fn jt_normal(&self, c: Constraint) -> Vec<f64> {
+        let k = self.k;
+        let mut d = vec![0.0; k];
+        let mut add_row = |i: usize, x: f64| {
+            for (dc, jc) in d.iter_mut().zip(&self.j[i * k..(i + 1) * k]) {
+                *dc += x * jc;
+            }
+        };
+        match c {
+            Constraint::Bound(i) => self.rows[i].iter().for_each(|&(a, x)| add_row(a, x)),
+            Constraint::Fix { j, sign, .. } => add_row(j, sign),
+        }
+        d
+    }
+
+    /// The bounds in conflict when `c` cannot be added: `c` and the active bounds that
+    /// `involved` says take part (all of them when it is `None`).
+    fn conflict(&self, c: Constraint, involved: Option<&[f64]>) -> Conflict {
+        let mut pieces = self.active_bounds(involved);
+        if let Constraint::Bound(i) = c {
+            pieces.push(i as u32);
+        }
+        pieces.sort_unstable();
+        pieces.dedup();
+        Conflict { pieces }
+    }
+
+    /// One step of the dual method: makes the violated `c` hold and active, dropping active
+    /// bounds whose multipliers reach zero on the way (Goldfarb–Idnani, steps 2a–2c).
+    fn add(&mut self, c: Constraint) -> Result<(), Conflict> {
+        let k = self.k;
+        let mut u_c = 0.0;
+        loop {
+            let q = self.active.len();
+            let d = self.jt_normal(c);
+            // Primal direction J₂ d₂ and dual direction R⁻¹ d₁.
+            let d2_sq: f64 = d[q..].iter().map(|x| x * x).sum();
+            let d_sq: f64 = d.iter().map(|x| x * x).sum();
+            let independent = d2_sq > 1e-20 * d_sq;
+            let mut back = vec![0.0; q];
+            for i in (0..q).rev() {
+                let s = d[i] - (i + 1..q).map(|m| self.r[m * k + i] * back[m]).sum::<f64>();
+                back[i] = s / self.r[i * k + i];
+            }
+            // Partial step: the largest dual step keeping the bounds' multipliers ≥ 0.
+            let mut partial: Option<(usize, f64)> = None;
+            for (i, (&ri, &ui)) in back.iter().zip(&self.u).enumerate() {
+                if matches!(self.active[i], Constraint::Bound(_)) && ri > 1e-12 {
+                    let t = ui / ri;
+                    if partial.is_none_or(|(_, best)| t < best) {
+                        partial = Some((i, t));
+                    }
+                }
+            }
+            // Full step: the primal step making `c` hold.
+            let full = independent.then(|| -self.slack(c) / d2_sq);
+            let t = match (partial, full) {
+                // `c`'s normal is a combination of the active ones (coefficients `back`)
+                // that no step of theirs can make hold: those with a share are the culprits.
+                (None, None) => return Err(self.conflict(c, Some(&back))),
+                (Some((_, t1)), Some(t2)) => t1.min(t2),
+                (Some((_, t1)), None) => t1,
+                (None, Some(t2)) => t2,
+            };
+            if full.is_some() {
+                for i in 0..k {
+                    let step: f64 = (q..k).map(|m| self.j[i * k + m] * d[m]).sum();
+                    self.z[i] += t * step;
+                }
+            }
+            for (ui, ri) in self.u.iter_mut().zip(&back) {
+                *ui -= t * ri;
+            }
+            u_c += t;
+            match partial {
+                Some((l, t1)) if full.is_none_or(|t2| t1 < t2) => self.drop_active(l),
+                _ => {
+                    self.push_active(c, u_c, d);
+                    return Ok(());
+                }
+            }
+        }
+    }
+
+    /// Rotates `d = Jᵀ n` (and `J`'s columns with it) so that only `d[..=q]` is nonzero, and
+    /// appends it to `R` as the new active constraint's column.
+    fn push_active(&mut self, c: Constraint, multiplier: f64, mut d: Vec<f64>) {
+        let (k, q) = (self.k, self.active.len());
+        for m in (q + 1..k).rev() {
+            if d[m] == 0.0 {
+                continue;
+            }
+            let h = d[m - 1].hypot(d[m]);
+            let (cos, sin) = (d[m - 1] / h, d[m] / h);
+            d[m - 1] = h;
+            d[m] = 0.0;
+            self.rotate_j(m - 1, cos, sin);
+        }
+        self.r.truncate(q * k);
+        self.r.extend_from_slice(&d);
+        if let Constraint::Fix { j, value, .. } = c {
+            self.fixed[j] = Fixing::Held(value);
+        }
+        self.active.push(c);
+        self.u.push(multiplier);
+    }
+
+    /// Removes the `l`-th active constraint and makes `R` triangular again.
+    fn drop_active(&mut self, l: usize) {
+        let (k, q) = (self.k, self.active.len());
+        self.r.drain(l * k..(l + 1) * k);
+        self.active.remove(l);
+        self.u.remove(l);
+        // Columns l.. now have one entry below the diagonal: rotate rows (m, m + 1) away.
+        for m in l..q - 1 {
+            let (a, b) = (self.r[m * k + m], self.r[m * k + m + 1]);
+            if b == 0.0 {
+                continue;
+            }
+            let h = a.hypot(b);
+            let (cos, sin) = (a / h, b / h);
+            for col in m..q - 1 {
+                let (x, y) = (self.r[col * k + m], self.r[col * k + m + 1]);
+                self.r[col * k + m] = cos * x + sin * y;
+                self.r[col * k + m + 1] = -sin * x + cos * y;
+            }
+            self.rotate_j(m, cos, sin);
+        }
+    }
+
+    /// Columns `m` and `m + 1` of `J` ← their rotation by (cos, sin).
+    fn rotate_j(&mut self, m: usize, cos: f64, sin: f64) {
+        let k = self.k;
+        for row in self.j.chunks_exact_mut(k) {
+            let (x, y) = (row[m], row[m + 1]);
+            row[m] = cos * x + sin * y;
+            row[m + 1] = -sin * x + cos * y;
+        }
+    }
+}
+
+fn dot(row: &Row, z: &[f64]) -> f64 {
+    row.iter().map(|&(a, x)| x * z[a]).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounds_hold_and_the_rest_moves_to_the_optimum() {
+        // Pieces z0, z1 and z0 − z1, desired 5, 1 and −3: the last is held at one.
+        let rows: Vec<Row> = vec![vec![(0, 1.0)], vec![(1, 1.0)], vec![(0, 1.0), (1, -1.0)]];
+        let mut qp = DualQp::new(&rows, 2, &[1.0; 3], &[5.0, 1.0, -3.0]).unwrap();
+        qp.solve().unwrap();
+        // On z0 − z1 = 1: minimize (z0 − 5)² + (z0 − 2)²: z0 = 3.5, z1 = 2.5.
+        assert!((qp.z[0] - 3.5).abs() < 1e-12 && (qp.z[1] - 2.5).abs() < 1e-12, "{:?}", qp.z);
+        assert_eq!(qp.pieces_at_one(), vec![2]);
+        // Fixing z1 = 3 moves z0 to the best value with z0 ≥ 4.
+        qp.fix(1, 3.0).unwrap();
+        assert!((qp.z[0] - 4.0).abs() < 1e-12 && (qp.z[1] - 3.0).abs() < 1e-12, "{:?}", qp.z);
+    }
+
+    #[test]
+    fn a_multiplier_reaching_zero_frees_the_bound() {
+        // Pieces z0 (wants 0), z1 − z0 (wants 1), z1 (wants 3): the optimum holds z0 at one.
+        let rows: Vec<Row> = vec![vec![(0, 1.0)], vec![(0, -1.0), (1, 1.0)], vec![(1, 1.0)]];
+        let mut qp = DualQp::new(&rows, 2, &[1.0; 3], &[0.0, 1.0, 3.0]).unwrap();
+        qp.solve().unwrap();
+        assert_eq!(qp.pieces_at_one(), vec![0]);
+        assert!((qp.z[0] - 1.0).abs() < 1e-12 && (qp.z[1] - 2.5).abs() < 1e-12, "{:?}", qp.z);
+        // Fixing z1 = 6 pulls z0 up to 2.5 (z0 − (5 − z0) = 0): its bound is let go.
+        let mut pulled = qp.clone();
+        pulled.fix(1, 6.0).unwrap();
+        assert!(pulled.pieces_at_one().is_empty());
+        assert!((pulled.z[0] - 2.5).abs() < 1e-12 && (pulled.z[1] - 6.0).abs() < 1e-12, "{:?}", pulled.z);
+        // Fixing z1 = 1 would need z0 ≤ 0 (piece 1) and z0 ≥ 1 (piece 0).
+        assert_eq!(qp.fix(1, 1.0).unwrap_err().pieces, vec![0, 1]);
+    }
+
+    #[test]
+    fn conflicting_bounds_are_infeasible() {
+        // Piece 0 is z0, piece 1 is −z0: both ≥ 1 cannot hold.
+        let rows: Vec<Row> = vec![vec![(0, 1.0)], vec![(0, -1.0)]];
+        let mut qp = DualQp::new(&rows, 1, &[1.0; 2], &[3.0, 3.0]).unwrap();
+        assert_eq!(qp.solve().unwrap_err().pieces, vec![0, 1]);
+    }
+}
