@@ -18,8 +18,8 @@ pub struct Segment {
 #[derive(Debug, Clone)]
 pub struct CurveGraph {
     pub node: Vec<bool>,
-    /// Nodes kept even where only two segments meet (singularities, feature and boundary
-    /// corners): they are corners of the layout.
+    /// Nodes kept even where only two segments meet (feature and boundary corners): they
+    /// are corners of the layout.
     pub pinned: Vec<bool>,
     /// Removed segments have an empty path.
     pub segments: Vec<Segment>,

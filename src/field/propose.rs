@@ -135,7 +135,10 @@ fn attempt(
     let mut moto = Motorcycles::new(mesh, field, owners(mesh, &g), MAX_TRACE_LENGTH * diag);
     if from_singularities {
         for (v, dirs) in singular_vertices(mesh, field, &g, diag) {
-            g.add_node(v, true);
+            // Not pinned: a singularity left with two of its separatrices (the others
+            // removed by repairs) is no corner but a bend, 90° on one side and 270° on the
+            // other, where a chart corner folds the quads; the two curves join through it.
+            g.add_node(v, false);
             moto.owner[v as usize] = BLOCKED;
             for d in dirs {
                 moto.launch(v, d);
@@ -299,9 +302,14 @@ fn singular_vertices(mesh: &Mesh, field: &CrossField, g: &CurveGraph, diag: f64)
             continue;
         }
         let c = centroid(s.triangle);
-        let mut corners = mesh.triangles()[s.triangle as usize];
-        corners.sort_by(|&a, &b| norm(sub(mesh.position(a), c)).total_cmp(&norm(sub(mesh.position(b), c))));
-        let Some(&v) = corners.iter().find(|&&v| !used[v as usize] && mesh.neighbors(v).all(|u| !used[u as usize])) else {
+        // The triangle's corners, then their neighbours, nearest first: two singularities in
+        // neighbouring triangles (they crowd where the surface curves most, an ear's tip) both
+        // get a vertex, one ring apart, rather than the second being lost.
+        let corners = mesh.triangles()[s.triangle as usize];
+        let mut candidates: Vec<u32> = corners.iter().flat_map(|&v| std::iter::once(v).chain(mesh.neighbors(v))).collect();
+        candidates.sort_by(|&a, &b| norm(sub(mesh.position(a), c)).total_cmp(&norm(sub(mesh.position(b), c))));
+        let free = |v: u32| !used[v as usize] && !g.taken(v) && mesh.neighbors(v).all(|u| !used[u as usize]);
+        let Some(&v) = candidates.iter().find(|&&v| free(v)) else {
             continue;
         };
         let dirs = separatrix_directions(mesh, field, v);
