@@ -27,7 +27,7 @@ use super::waypoints::sparse_waypoints;
 use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
-use crate::layout::{build_layout, curve, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout};
+use crate::layout::{build_layout, curve, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout, MAX_WAYPOINTS};
 use crate::geom::{norm, sub};
 use crate::mesh::geometry::corner_angles;
 use crate::mesh::topology::topology;
@@ -539,6 +539,9 @@ enum Rejected {
     /// The parameterization cannot place the triangles at this vertex (curves too close for
     /// the mesh).
     Param(u32, ParamError),
+    /// The layout would have this many waypoints, more than a layout file may have: the reader
+    /// would refuse the file written.
+    Waypoints(usize),
 }
 
 impl fmt::Display for Rejected {
@@ -547,6 +550,7 @@ impl fmt::Display for Rejected {
             Rejected::Layout(e) => write!(f, "{e}"),
             Rejected::Counts(e, _) => write!(f, "sample counts: {e}"),
             Rejected::Param(_, e) => write!(f, "{e}"),
+            Rejected::Waypoints(n) => write!(f, "the layout has {n} waypoints, more than a layout file may have ({MAX_WAYPOINTS})"),
         }
     }
 }
@@ -572,6 +576,11 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool]) -> Res
             }
         })
         .collect();
+    // `build_layout` takes the layout as data and does not count them; the reader does.
+    let waypoints = edges.iter().map(|e| e.via.len()).sum();
+    if waypoints > MAX_WAYPOINTS {
+        return Err(Rejected::Waypoints(waypoints));
+    }
     let mut layout = Layout {
         nodes: nodes.iter().map(|&v| Location::Vertex(v as u64)).collect(),
         edges,
