@@ -170,6 +170,7 @@ impl Verdict {
             quality,
             diagonal: norm(sub(hi, lo)),
             edge_length: options.edge_length,
+            surface_area: areas.iter().sum(),
             desired: &extraction.desired,
             counts: &extraction.counts,
             distorted: &distorted,

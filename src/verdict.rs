@@ -37,12 +37,16 @@ pub const DISTORTED_FLOOR: f64 = 0.5;
 pub const DISTORTED_QUADS: f64 = 4.0;
 /// A curve asking for fewer segments than this would round to none.
 pub const RAISED_BELOW: f64 = 0.5;
+/// A quad count this far (as a share) from what the surface area asks for is a warning: the
+/// area rule lands within 10 % on every sample layout (tests/quad_density.rs), and rounding
+/// alone moves a coarse grid by up to 13 %.
+pub const COUNT_OFF: f64 = 0.15;
 
 /// One warning of the report.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Warning {
-    /// `surface_missed`, `face_distorted`, `flipped_triangles`, `folded_quads` or
-    /// `counts_raised`.
+    /// `surface_missed`, `face_distorted`, `flipped_triangles`, `folded_quads`,
+    /// `counts_raised` or `quad_count_off`.
     pub kind: &'static str,
     /// What is wrong and what may help, for people.
     pub message: String,
@@ -104,6 +108,8 @@ pub struct Outcome<'a> {
     pub diagonal: f64,
     /// The edge length asked for.
     pub edge_length: f64,
+    /// The surface area the layout's faces cover (area / edge length² quads are asked for).
+    pub surface_area: f64,
     /// Desired and final segments per curve.
     pub desired: &'a [f64],
     pub counts: &'a [u32],
@@ -116,7 +122,7 @@ fn percent(x: f64) -> String {
     format!("{:.1} %", 100.0 * x)
 }
 
-/// The warnings of a result, in the order: surface, faces, flips, folds, counts.
+/// The warnings of a result, in the order: surface, faces, flips, folds, counts, quad count.
 pub fn warnings(o: &Outcome) -> Vec<Warning> {
     let mut out = Vec::new();
     let q = o.quality;
@@ -207,6 +213,27 @@ pub fn warnings(o: &Outcome) -> Vec<Warning> {
         let points = &cut.curve_vertices[first];
         w.at = points.get(points.len() / 2).map(|&v| cut.positions[v as usize]);
         w.count = Some(raised.len());
+        out.push(w);
+    }
+    let asked = o.surface_area / (o.edge_length * o.edge_length);
+    let got = o.quads.quads.len() as f64;
+    if asked.is_finite() && asked > 0.0 && (got - asked).abs() > COUNT_OFF * asked {
+        let why = if got < asked {
+            "fewer: the layout's faces cannot all get their share of the area with opposite sides of equal \
+             counts; faces nearer rectangles, with fewer T-vertices, get closer"
+        } else {
+            "more: every layout curve takes at least one segment and opposite sides must match; ask for more \
+             quads or draw fewer faces"
+        };
+        let mut w = Warning::new(
+            "quad_count_off",
+            format!(
+                "{} quads where the surface's area asks for about {asked:.0} ({} {why})",
+                o.quads.quads.len(),
+                percent((got - asked).abs() / asked)
+            ),
+        );
+        w.count = Some(o.quads.quads.len());
         out.push(w);
     }
     out
