@@ -4,6 +4,7 @@
 //! Segments share no vertex except their end nodes, so their curves meet only at nodes. The
 //! boundary is not stored: its vertices are taken, and the nodes on it are kept here.
 
+use crate::geom::sub;
 use crate::mesh::{Mesh, NONE};
 
 /// A path of mesh vertices from node to node.
@@ -158,7 +159,7 @@ impl CurveGraph {
             let mut changed = false;
             for s in self.live().collect::<Vec<_>>() {
                 let p = &self.segments[s as usize].path;
-                let dangling = [p[0], p[p.len() - 1]].iter().any(|&v| d[v as usize] == 1 && !self.boundary[v as usize]);
+                let dangling = [p[0], p[p.len() - 1]].iter().any(|&v| self.dangles(&d, v));
                 if dangling && !self.segments[s as usize].feature {
                     self.remove(s);
                     changed = true;
@@ -185,6 +186,12 @@ impl CurveGraph {
         }
     }
 
+    /// Whether a segment ending at `v` ends there alone (`d`: [`CurveGraph::degrees`]); the
+    /// boundary's pieces reach its vertices.
+    fn dangles(&self, d: &[u32], v: u32) -> bool {
+        d[v as usize] == 1 && !self.boundary[v as usize]
+    }
+
     /// The ends of feature segments that nothing else reaches, with the direction the
     /// feature arrives in (from the segment's second-to-last vertex): where a trace must
     /// continue the line, or the line will be a slit.
@@ -198,8 +205,8 @@ impl CurveGraph {
             }
             let p = &seg.path;
             for (end, inner) in [(p[0], p[1]), (p[p.len() - 1], p[p.len() - 2])] {
-                if d[end as usize] == 1 && !self.boundary[end as usize] {
-                    ends.push((end, crate::geom::sub(mesh.position(end), mesh.position(inner))));
+                if self.dangles(&d, end) {
+                    ends.push((end, sub(mesh.position(end), mesh.position(inner))));
                 }
             }
         }

@@ -16,8 +16,8 @@
 //! 5. The graph is written as a layout file (nodes on vertices, feature curves through all
 //!    their vertices and tagged, traces through the few vertices that keep the geodesic on
 //!    them, [`sparse_waypoints`], or through all where that lets curves meet) and checked
-//!    with [`build_layout`] and the sample-count equations; faces with a feature or boundary side get general quad charts,
-//!    the others rectangles (the paper's Section 5).
+//!    with [`build_layout`] and the sample-count equations; faces with a feature or boundary
+//!    side get general quad charts, the others rectangles (the paper's Section 5).
 
 use super::faces::{analyze, FaceInfo};
 use super::graph::CurveGraph;
@@ -28,7 +28,7 @@ use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
 use crate::layout::{build_layout, curve, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout, MAX_WAYPOINTS};
-use crate::geom::{norm, sub};
+use crate::geom::{norm, sub, Vec3};
 use crate::mesh::geometry::corner_angles;
 use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
@@ -132,29 +132,24 @@ fn attempt(
     }
     boundary_nodes(mesh, &mut g);
 
-    let mut moto = Motorcycles::new(mesh, field, owners(mesh, &g), MAX_TRACE_LENGTH * diag);
+    let mut launches: Vec<Launch> = Vec::new();
     if from_singularities {
         for (v, dirs) in singular_vertices(mesh, field, &g, diag) {
             // Not pinned: a singularity left with two of its separatrices (the others
             // removed by repairs) is no corner but a bend, 90° on one side and 270° on the
             // other, where a chart corner folds the quads; the two curves join through it.
             g.add_node(v, false);
-            moto.owner[v as usize] = BLOCKED;
-            for d in dirs {
-                moto.launch(v, d);
-            }
+            launches.extend(dirs.into_iter().map(|d| (v, d, false)));
         }
     }
-    let continuations = moto.traces.len();
     for &c in &field.features.corners {
         if field.features.degree[c as usize] == 1 && !mesh.is_boundary_vertex(c) {
             if let Some(h) = mesh.outgoing(c).find(|&h| field.features.sharp[mesh.edge(h) as usize]) {
-                moto.launch(c, sub(mesh.position(c), mesh.position(mesh.to_vertex(h))));
+                launches.push((c, sub(mesh.position(c), mesh.position(mesh.to_vertex(h))), true));
             }
         }
     }
-    moto.run();
-    add_traces(&mut g, moto, continuations);
+    grow(mesh, field, &mut g, diag, &launches);
 
     let mut seeds_left = MAX_SEED_ROUNDS;
     let mut rejections = 0;
@@ -169,32 +164,30 @@ fn attempt(
             Ok(done) => return Ok(done),
             Err(e) => e,
         };
-        // Simplify where the reader or the counts refused, and try again.
+        // Simplify where the reader or the counts refused, and try again: first follow the
+        // paths of sparse curves that meet or found no path more closely, then give up a trace.
         let live: Vec<u32> = g.live().collect();
         let sparse = |i: u32| live.get(i as usize).copied().filter(|&s| !dense[s as usize]);
-        let removed = match &rejected {
-            // First follow the paths more closely, then give up a trace.
-            Rejected::Layout(LayoutError::CurvesMeet { a, b, .. }) if [a, b].iter().any(|c| c.edge().and_then(sparse).is_some()) => {
-                let to_densify: Vec<u32> = [a, b].iter().filter_map(|c| c.edge().and_then(sparse)).collect();
-                for s in to_densify {
-                    dense[s as usize] = true;
-                }
-                true
-            }
-            Rejected::Layout(LayoutError::NoPath { edge, .. }) if sparse(*edge as u32).is_some() => {
-                dense[live[*edge] as usize] = true;
-                true
-            }
-            Rejected::Layout(LayoutError::CurvesMeet { a: CurveSource::Edge(i), b: CurveSource::Edge(j), .. }) => {
-                remove_trace(&mut g, None, &[*i as u32, *j as u32])
-            }
-            Rejected::Counts(CountError::Infeasible { pieces_at_one }, surface) => {
-                remove_trace(&mut g, Some(surface), pieces_at_one)
-            }
-            Rejected::Counts(CountError::Fractional { piece }, surface) => remove_trace(&mut g, Some(surface), &[*piece]),
-            Rejected::Param(v, _) => remove_near(mesh, &mut g, *v),
-            _ => false,
+        let densify: Vec<u32> = match &rejected {
+            Rejected::Layout(LayoutError::CurvesMeet { a, b, .. }) => [a, b].iter().filter_map(|c| c.edge().and_then(sparse)).collect(),
+            Rejected::Layout(LayoutError::NoPath { edge, .. }) => sparse(*edge as u32).into_iter().collect(),
+            _ => Vec::new(),
         };
+        for &s in &densify {
+            dense[s as usize] = true;
+        }
+        let removed = !densify.is_empty()
+            || match &rejected {
+                Rejected::Layout(LayoutError::CurvesMeet { a: CurveSource::Edge(i), b: CurveSource::Edge(j), .. }) => {
+                    remove_trace(&mut g, None, &[*i as u32, *j as u32])
+                }
+                Rejected::Counts(CountError::Infeasible { pieces_at_one }, surface) => {
+                    remove_trace(&mut g, Some(surface), pieces_at_one)
+                }
+                Rejected::Counts(CountError::Fractional { piece }, surface) => remove_trace(&mut g, Some(surface), &[*piece]),
+                Rejected::Param(v, _) => remove_near(mesh, &mut g, *v),
+                _ => false,
+            };
         rejections += 1;
         if !removed || rejections > MAX_REJECTIONS {
             return Err(rejected.to_string());
@@ -208,13 +201,24 @@ fn owners(mesh: &Mesh, g: &CurveGraph) -> Vec<u32> {
     (0..mesh.n_vertices() as u32).map(|v| if g.taken(v) { BLOCKED } else { NONE }).collect()
 }
 
-/// Adds the traces that ended on something to the graph. Traces from `continuations` on continue feature lines: they are kept and tagged like the
-/// lines (a crease that fades out goes on as an edge loop), so no repair leaves the line
-/// dangling for the pruning to take away.
-fn add_traces(g: &mut CurveGraph, moto: Motorcycles, continuations: usize) {
-    for (i, t) in moto.traces.into_iter().enumerate() {
+/// A trace to grow: its start vertex, its heading there, and whether it continues a feature
+/// line.
+type Launch = (u32, Vec3, bool);
+
+/// Grows traces from `launches` together (the motorcycle rule: the graph's vertices and
+/// nodes are taken) and adds those that ended on something to the graph. A trace that
+/// continues a feature line is kept and tagged like the line (a crease that fades out goes on
+/// as an edge loop), so no repair leaves the line dangling for the pruning to take away.
+fn grow(mesh: &Mesh, field: &CrossField, g: &mut CurveGraph, diag: f64, launches: &[Launch]) {
+    let mut moto = Motorcycles::new(mesh, field, owners(mesh, g), MAX_TRACE_LENGTH * diag);
+    for &(v, heading, _) in launches {
+        moto.launch(v, heading);
+    }
+    moto.run();
+    // One trace per launch, in order.
+    for (t, &(_, _, feature)) in moto.traces.iter().zip(launches) {
         if t.end == TraceEnd::Hit && t.path.len() >= 2 {
-            g.add_path(&t.path, i >= continuations);
+            g.add_path(&t.path, feature);
         }
     }
     g.prune();
@@ -336,12 +340,8 @@ fn repair(
     if !ends.is_empty() && *seeds_left > 0 {
         // A repair took away what a feature line ended on: continue it again.
         *seeds_left -= 1;
-        let mut moto = Motorcycles::new(mesh, field, owners(mesh, g), MAX_TRACE_LENGTH * diag);
-        for &(v, d) in &ends {
-            moto.launch(v, d);
-        }
-        moto.run();
-        add_traces(g, moto, 0);
+        let launches: Vec<Launch> = ends.iter().map(|&(v, d)| (v, d, true)).collect();
+        grow(mesh, field, g, diag, &launches);
         if g.dangling_feature_ends(mesh).len() < ends.len() {
             return Ok(true);
         }
@@ -408,16 +408,11 @@ fn repair(
 
 /// Launches a cross of traces (the field's four arms) from each seed vertex.
 fn seed(mesh: &Mesh, field: &CrossField, g: &mut CurveGraph, seeds: &[u32], diag: f64) {
-    let mut moto = Motorcycles::new(mesh, field, owners(mesh, g), MAX_TRACE_LENGTH * diag);
     for &s in seeds {
         g.add_node(s, false);
-        moto.owner[s as usize] = BLOCKED;
-        for arm in field.arms(s) {
-            moto.launch(s, arm);
-        }
     }
-    moto.run();
-    add_traces(g, moto, usize::MAX);
+    let launches: Vec<Launch> = seeds.iter().flat_map(|&s| field.arms(s).map(|arm| (s, arm, false))).collect();
+    grow(mesh, field, g, diag, &launches);
 }
 
 /// A vertex on the boundary of face `f` (inside one of its segments, or on the mesh

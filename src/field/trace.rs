@@ -53,7 +53,7 @@ pub struct Motorcycles<'a> {
     mesh: &'a Mesh,
     field: &'a CrossField,
     /// Per vertex: [`NONE`] (free), [`BLOCKED`], or the trace that runs through it.
-    pub owner: Vec<u32>,
+    owner: Vec<u32>,
     pub traces: Vec<Trace>,
     pending: Vec<Walker>,
     max_length: f64,
@@ -252,16 +252,16 @@ impl<'a> Motorcycles<'a> {
         let point = [w.point[0] + t * d[0], w.point[1] + t * d[1], w.point[2] + t * d[2]];
         let length = w.length + t;
         let steps = w.steps + 1;
+        let nearer = if s < 0.5 { mesh.from_vertex(h) } else { mesh.to_vertex(h) };
         if !(THROUGH_VERTEX..=1.0 - THROUGH_VERTEX).contains(&s) {
             // Through a vertex: go on from it into the triangle the direction points into.
-            let x = if s < 0.5 { mesh.from_vertex(h) } else { mesh.to_vertex(h) };
-            let Some(face) = self.sector(x, d) else {
-                return Some((Walker { steps: usize::MAX, ..w.clone() }, Some(x)));
+            let Some(face) = self.sector(nearer, d) else {
+                return Some((Walker { steps: usize::MAX, ..w.clone() }, Some(nearer)));
             };
-            let walker = Walker { trace: w.trace, heading: d, face, entry: NONE, point: mesh.position(x), vertex: x, length, steps };
-            return Some((walker, Some(x)));
+            let point = mesh.position(nearer);
+            let walker = Walker { trace: w.trace, heading: d, face, entry: NONE, point, vertex: nearer, length, steps };
+            return Some((walker, Some(nearer)));
         }
-        let nearer = if s < 0.5 { mesh.from_vertex(h) } else { mesh.to_vertex(h) };
         let twin = mesh.twin(h);
         let next_face = mesh.face(twin);
         let walker = Walker { trace: w.trace, heading: d, face: next_face, entry: twin, point, vertex: NONE, length, steps };
