@@ -111,6 +111,36 @@ fn subtract(row: &Row, factor: f64, pivot: &Row) -> Row {
     }
 }
 
+/// Takes `factor · pivot` (row `r`, unit in column `col`) from each row of `targets` whose
+/// coefficient in `col` exceeds `tolerance`, filing the columns a row gains in `by_col`; the
+/// rows changed and their factors, for the caller's right-hand side.
+fn eliminate(
+    rows: &mut [Row],
+    by_col: &mut [Vec<usize>],
+    targets: Vec<usize>,
+    r: usize,
+    col: usize,
+    pivot: &Row,
+    tolerance: f64,
+) -> Vec<(usize, f64)> {
+    let mut changed = Vec::new();
+    for s in targets {
+        let factor = coefficient(&rows[s], col);
+        if s == r || factor.abs() <= tolerance {
+            continue;
+        }
+        let updated = subtract(&rows[s], factor, pivot);
+        for &(c, _) in &updated {
+            if coefficient(&rows[s], c) == 0.0 {
+                by_col[c].push(s);
+            }
+        }
+        rows[s] = updated;
+        changed.push((s, factor));
+    }
+    changed
+}
+
 /// Reduces `rows · x = rhs` over the columns in `active` (the rows hold no others; the
 /// known counts are already on the right-hand side), sparsely: each equation touches the
 /// few pieces of two sides of a face, so a layout of ten thousand faces stays small. Pivots
@@ -155,18 +185,8 @@ fn echelon(mut rows: Vec<Row>, mut rhs: Vec<f64>, active: &[usize], n: usize) ->
         }
         rhs[r] /= p;
         let pivot = std::mem::take(&mut rows[r]);
-        for s in by_col[col].clone() {
-            let factor = coefficient(&rows[s], col);
-            if s == r || factor.abs() <= EPS {
-                continue;
-            }
-            let updated = subtract(&rows[s], factor, &pivot);
-            for &(c, _) in &updated {
-                if coefficient(&rows[s], c) == 0.0 {
-                    by_col[c].push(s);
-                }
-            }
-            rows[s] = updated;
+        let targets = by_col[col].clone();
+        for (s, factor) in eliminate(&mut rows, &mut by_col, targets, r, col, &pivot, EPS) {
             rhs[s] -= factor * rhs[r];
         }
         rows[r] = pivot;

@@ -29,7 +29,7 @@
 //! 4. **Check.** The counts are computed in integers and every equation and bound is checked.
 
 use super::dual_qp::{Conflict, DualQp};
-use super::{coefficient, subtract, CountError, Equation, Row};
+use super::{coefficient, eliminate, CountError, Equation, Row};
 use std::collections::VecDeque;
 
 /// Solves of the reweighted least squares after the plain one (each one dense QP of the
@@ -118,19 +118,8 @@ fn lattice(mut rows: Vec<Row>, n: usize) -> Result<Lattice, CountError> {
         if coefficient(&pivot, col) < 0.0 {
             pivot.iter_mut().for_each(|e| e.1 = -e.1);
         }
-        for s in std::mem::take(&mut by_col[col]) {
-            let factor = coefficient(&rows[s], col);
-            if s == r || factor == 0.0 {
-                continue;
-            }
-            let updated = subtract(&rows[s], factor, &pivot);
-            for &(c, _) in &updated {
-                if coefficient(&rows[s], c) == 0.0 {
-                    by_col[c].push(s);
-                }
-            }
-            rows[s] = updated;
-        }
+        let targets = std::mem::take(&mut by_col[col]);
+        eliminate(&mut rows, &mut by_col, targets, r, col, &pivot, 0.0);
         by_col[col].push(r);
         rows[r] = pivot;
         pivot_row[col] = r;
