@@ -219,8 +219,8 @@ pub fn warnings(o: &Outcome) -> Vec<Warning> {
     let got = o.quads.quads.len() as f64;
     if asked.is_finite() && asked > 0.0 && (got - asked).abs() > COUNT_OFF * asked {
         let why = if got < asked {
-            "fewer: the layout's faces cannot all get their share of the area with opposite sides of equal \
-             counts; faces nearer rectangles, with fewer T-vertices, get closer"
+            "fewer: no edge length gives counts nearer to it with opposite sides equal and every curve at least \
+             one segment; faces nearer rectangles, with fewer T-vertices, get closer"
         } else {
             "more: every layout curve takes at least one segment and opposite sides must match; ask for more \
              quads or draw fewer faces"

@@ -2,7 +2,7 @@
 //! then remeshed at about 4000 quads. Prints the target table
 //! (`cargo test --release --test auto_layout -- --nocapture`); asserts only what must hold: a
 //! valid layout or a clear refusal (the reader places it, it reads back as written), a welded pure quad mesh
-//! with the input's boundary loops. Folded quads are printed, not yet asserted: the
+//! with the input's boundary loops, about the quads asked for. Folded quads are printed, not yet asserted: the
 //! proposals still fold some on most meshes (see the table).
 
 mod common;
@@ -73,6 +73,14 @@ fn shared_meshes_get_valid_layouts_and_quads() {
         // Welded pure quads with the input's boundary loops.
         assert!(quads.quads.iter().all(|f| f.iter().all(|&v| (v as usize) < quads.positions.len())), "{name}");
         assert_eq!(common::quad_boundary_loops(&quads), topology(&mesh).boundary_loops.len(), "{name}: boundary loops");
+        // About the quads asked for (the issue's ±15 %): never too few, the counts can always
+        // go finer; too many only where faces average fewer than 5 × 5 quads, where each piece
+        // between T-vertices taking one segment at least decides the count.
+        let (got, asked) = (q.faces as f64, area / (h * h));
+        let coarse = s.faces.len() as f64 > asked / 25.0;
+        if got < 0.85 * asked || (got > 1.15 * asked && !coarse) {
+            failures.push(format!("{name}: {got} quads where {asked:.0} were asked"));
+        }
     }
     println!("| mesh | quads | Hausdorff | mean angle deviation | irregular vertices | folded | layout time | layout |");
     println!("| --- | --- | --- | --- | --- | --- | --- | --- |");

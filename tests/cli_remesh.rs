@@ -196,7 +196,7 @@ fn warnings_say_what_to_look_at_and_a_clean_result_has_none() {
 }
 
 /// A quad count far from what was asked is a warning (`quad_count_off`): the mushroom's 2×2
-/// grid at 10 quads must give each of its curves a segment at least, 16 quads; at 2000 it
+/// grid at 3 quads must give each of its curves a segment at least, 4 quads; at 2000 it
 /// lands within the tolerance and says nothing.
 #[test]
 fn a_quad_count_far_from_the_asked_one_is_a_warning() {
@@ -206,10 +206,11 @@ fn a_quad_count_far_from_the_asked_one_is_a_warning() {
         assert_eq!(code, 0, "{stderr}");
         serde_json::from_str(&stdout).unwrap()
     };
-    let coarse = run("10");
+    let coarse = run("3");
     let off: Vec<&Value> = coarse["warnings"].as_array().unwrap().iter().filter(|w| w["kind"] == "quad_count_off").collect();
     assert_eq!(off.len(), 1, "{}", coarse["warnings"]);
     assert_eq!(off[0]["count"], coarse["quads"]["faces"]);
+    assert_eq!(coarse["quads"]["faces"], 4);
     assert!(off[0]["message"].as_str().unwrap().contains("more"), "{}", off[0]["message"]);
     let fine = run("2000");
     assert!(fine["warnings"].as_array().unwrap().iter().all(|w| w["kind"] != "quad_count_off"), "{}", fine["warnings"]);

@@ -287,21 +287,45 @@ pub struct Extraction {
     pub outside_points: usize,
 }
 
-/// Extracts the quad mesh of a finished parameterization (paper Section 4).
-///
-/// Every curve gets a sample count ([`counts`]) near its desired count, which follows the
-/// faces' surface areas ([`density`]: about surface area / h² quads); each face's grid joins the samples of
-/// opposite sides; grid points are mapped back to the surface through the triangles
-/// parameterized in the face's chart, or in a neighbour's across the nearest side. Samples
-/// on curves and nodes have one vertex each, shared by both faces: the mesh is welded by
-/// construction.
-///
-/// # Errors
-/// [`QuadError`] for a bad edge length, a layout whose counts cannot agree, or a mesh of
-/// more than [`MAX_QUADS`] quads.
-pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptions) -> Result<(QuadMesh, Extraction), QuadError> {
-    let h = options.edge_length;
-    check_edge_length(layout, h)?;
+/// Sample counts at one edge length and the quads they make.
+struct Counted {
+    counts: Vec<u32>,
+    desired: Vec<f64>,
+    quads: f64,
+}
+
+/// Relative distance from the quads asked for within which the counts are taken as they are.
+const QUAD_COUNT_TOLERANCE: f64 = 0.05;
+/// Bound on the edge lengths tried to meet the quads asked for.
+const RESCALES: usize = 6;
+
+/// The sample counts for edge length `h` that make about surface area / h² quads. Integer
+/// counts that agree on opposite sides are not what the areas wished: every piece between
+/// T-vertices takes at least one segment (a layout of many small faces gets more quads), and
+/// faces whose opposite sides differ give up length to agree (fewer). Where the quads are
+/// more than [`QUAD_COUNT_TOLERANCE`] off, the counts are made again at an edge length
+/// scaled by the square root of the miss, and the nearest to what was asked is kept.
+fn counts_for_quads(layout: &SurfaceLayout, param: &ParamSession, h: f64) -> Result<Counted, QuadError> {
+    let asked = density::face_areas(param.cut(), layout.faces.len()).iter().sum::<f64>() / (h * h);
+    let miss = |quads: f64| (quads / asked - 1.0).abs();
+    let mut best = counts_at(layout, param, h)?;
+    let (mut scale, mut last) = (h, best.quads);
+    for _ in 0..RESCALES {
+        if miss(best.quads) <= QUAD_COUNT_TOLERANCE || !(last > 0.0 && asked > 0.0) {
+            break;
+        }
+        scale *= (last / asked).sqrt();
+        let Ok(trial) = counts_at(layout, param, scale) else { break };
+        last = trial.quads;
+        if miss(trial.quads) < miss(best.quads) {
+            best = trial;
+        }
+    }
+    Ok(best)
+}
+
+/// The sample counts at edge length `h`: the desires of the faces' areas, solved and rounded.
+fn counts_at(layout: &SurfaceLayout, param: &ParamSession, h: f64) -> Result<Counted, QuadError> {
     let desires = density::face_desires(layout, param, h);
     let problem = density::IncidenceCounts::new(layout, &desires);
     let counts = sample_counts(&problem.desired, &problem.equations).map_err(|error| {
@@ -323,7 +347,27 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     let counts = problem.per_curve(&counts, layout.curves.len());
     let desired = density::desired_counts(layout, &desires);
     // Rounding may add a little to the desired counts: count again, the counts now agree.
-    within_cap(grid_quads(layout, |c| counts[c as usize] as f64))?;
+    let quads = grid_quads(layout, |c| counts[c as usize] as f64);
+    within_cap(quads)?;
+    Ok(Counted { counts, desired, quads })
+}
+
+/// Extracts the quad mesh of a finished parameterization (paper Section 4).
+///
+/// Every curve gets a sample count ([`counts`]) near its desired count, which follows the
+/// faces' surface areas ([`density`]: about surface area / h² quads); each face's grid joins the samples of
+/// opposite sides; grid points are mapped back to the surface through the triangles
+/// parameterized in the face's chart, or in a neighbour's across the nearest side. Samples
+/// on curves and nodes have one vertex each, shared by both faces: the mesh is welded by
+/// construction.
+///
+/// # Errors
+/// [`QuadError`] for a bad edge length, a layout whose counts cannot agree, or a mesh of
+/// more than [`MAX_QUADS`] quads.
+pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptions) -> Result<(QuadMesh, Extraction), QuadError> {
+    let h = options.edge_length;
+    check_edge_length(layout, h)?;
+    let Counted { counts, desired, .. } = counts_for_quads(layout, param, h)?;
 
     let cut = param.cut();
     let solution = param.solution();
