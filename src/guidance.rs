@@ -80,7 +80,7 @@ pub fn angle_defects(mesh: &Mesh) -> Vec<f64> {
 /// The face's vertex nearest to `target` that is away from its curves (every neighbour in
 /// the face too), else its nearest vertex at all: a node there leaves room for the new
 /// curves.
-fn nearest_vertex(mesh: &Mesh, layout: &SurfaceLayout, face: u32, target: Vec3) -> Option<u32> {
+pub fn nearest_vertex(mesh: &Mesh, layout: &SurfaceLayout, face: u32, target: Vec3) -> Option<u32> {
     let in_face = |v: u32| layout.vertex_face.get(v as usize) == Some(&face);
     let d2 = |v: u32| {
         let d = sub(mesh.position(v), target);

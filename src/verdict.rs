@@ -79,6 +79,12 @@ impl Warning {
 /// Faces whose length error is far above the others' (see the module documentation), at
 /// edge length `h`.
 pub fn distorted_faces(face_area: &[f64], measured: &FaceDistortion, h: f64) -> Vec<usize> {
+    faces_above(face_area, measured, h, DISTORTED_RATIO, DISTORTED_FLOOR)
+}
+
+/// Faces of at least [`DISTORTED_QUADS`] quads' area at edge length `h` whose length error is
+/// above `ratio` times the area-weighted median face's and above `floor`.
+pub fn faces_above(face_area: &[f64], measured: &FaceDistortion, h: f64, ratio: f64, floor: f64) -> Vec<usize> {
     let mut by_error: Vec<(f64, f64)> = measured.length_error.iter().copied().zip(face_area.iter().copied()).collect();
     by_error.sort_by(|a, b| a.0.total_cmp(&b.0));
     let half = 0.5 * face_area.iter().sum::<f64>();
@@ -93,7 +99,7 @@ pub fn distorted_faces(face_area: &[f64], measured: &FaceDistortion, h: f64) -> 
     (0..measured.length_error.len())
         .filter(|&f| {
             let e = measured.length_error[f];
-            e > DISTORTED_FLOOR && e > DISTORTED_RATIO * median && face_area[f] >= DISTORTED_QUADS * h * h
+            e > floor && e > ratio * median && face_area[f] >= DISTORTED_QUADS * h * h
         })
         .collect()
 }
