@@ -175,7 +175,7 @@ fn finish(
     options: &LayoutOptions,
     diag: f64,
     seeds_left: &mut usize,
-) -> Result<(Layout, SurfaceLayout), String> {
+) -> Result<Written, String> {
     let mut rejections = 0;
     // Segments whose sparse waypoints let their curve meet another: written with every vertex.
     let mut dense = vec![false; g.segments.len()];
@@ -234,14 +234,15 @@ fn refine(
     options: &LayoutOptions,
     diag: f64,
     g: CurveGraph,
-    first: (Layout, SurfaceLayout),
+    first: Written,
     seeds_left: usize,
 ) -> (Layout, SurfaceLayout) {
-    let Some(mut score) = solved_distortion(mesh, &first.1) else { return first };
-    let mut best = (g, first);
+    let Written { layout, surface, param } = first;
+    let Some(mut score) = solved_distortion(param, &surface) else { return (layout, surface) };
+    let mut best = (g, layout, surface);
     let h = default_edge_length(mesh);
     for _ in 0..REFINES {
-        let surface = &best.1 .1;
+        let surface = &best.2;
         let mut bad = faces_above(&score.face_area, &score.measured, h, SPLIT_RATIO, SPLIT_FLOOR);
         let weight = |f: usize| score.face_area[f] * score.measured.length_error[f];
         bad.sort_by(|&a, &b| weight(b).total_cmp(&weight(a)));
@@ -256,17 +257,17 @@ fn refine(
             let mut trial = best.0.clone();
             seed(mesh, field, &mut trial, seeds, diag);
             let mut left = seeds_left;
-            let done = finish(mesh, field, &mut trial, options, diag, &mut left).ok()?;
-            let s = solved_distortion(mesh, &done.1).filter(|s| s.mean < score.mean)?;
-            Some((s, trial, done))
+            let Written { layout, surface, param } = finish(mesh, field, &mut trial, options, diag, &mut left).ok()?;
+            let s = solved_distortion(param, &surface).filter(|s| s.mean < score.mean)?;
+            Some((s, (trial, layout, surface)))
         };
         let tries: &[&[u32]] = if seeds.len() > 1 { &[&seeds, &seeds[..1]] } else { &[&seeds] };
         let improved = tries.iter().filter(|t| !t.is_empty()).find_map(|t| split(t));
-        let Some((s, trial, done)) = improved else { break };
+        let Some((s, better)) = improved else { break };
         score = s;
-        best = (trial, done);
+        best = better;
     }
-    best.1
+    (best.1, best.2)
 }
 
 /// A layout's distortion after the harmonic solve and one chart optimization (near what three
@@ -278,8 +279,7 @@ struct Solved {
     mean: f64,
 }
 
-fn solved_distortion(mesh: &Mesh, surface: &SurfaceLayout) -> Option<Solved> {
-    let mut param = ParamSession::new(mesh, surface, &ParamOptions::default()).ok()?;
+fn solved_distortion(mut param: ParamSession, surface: &SurfaceLayout) -> Option<Solved> {
     param.step().ok()?;
     let faces = surface.faces.len();
     let measured = face_distortion(&param, faces);
@@ -643,8 +643,16 @@ impl fmt::Display for Rejected {
     }
 }
 
+/// A layout written: the file, as the reader places it, and the parameterization set up on it
+/// (its checks passed; [`refine`] solves it).
+struct Written {
+    layout: Layout,
+    surface: SurfaceLayout,
+    param: ParamSession,
+}
+
 /// The layout file of the graph, checked by the layout reader and the sample-count equations.
-fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool]) -> Result<(Layout, SurfaceLayout), Rejected> {
+fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool]) -> Result<Written, Rejected> {
     let nodes: Vec<u32> = (0..mesh.n_vertices() as u32).filter(|&v| g.node[v as usize]).collect();
     let mut index = vec![NONE; mesh.n_vertices()];
     for (i, &v) in nodes.iter().enumerate() {
@@ -722,13 +730,15 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool]) -> Res
         return Err(Rejected::Counts(e, Box::new(surface)));
     }
     // The parameterization's own checks of the cut mesh.
-    if let Err(e) = ParamSession::new(mesh, &surface, &ParamOptions::default()) {
-        let v = match e {
-            ParamError::NotNeighbours { vertex, .. } => vertex,
-            ParamError::NodeNotOnFace { node, .. } => surface.node_vertex.get(node as usize).copied().unwrap_or(NONE),
-            _ => NONE,
-        };
-        return Err(Rejected::Param(v, e));
+    match ParamSession::new(mesh, &surface, &ParamOptions::default()) {
+        Ok(param) => Ok(Written { layout, surface, param }),
+        Err(e) => {
+            let v = match e {
+                ParamError::NotNeighbours { vertex, .. } => vertex,
+                ParamError::NodeNotOnFace { node, .. } => surface.node_vertex.get(node as usize).copied().unwrap_or(NONE),
+                _ => NONE,
+            };
+            Err(Rejected::Param(v, e))
+        }
     }
-    Ok((layout, surface))
 }
