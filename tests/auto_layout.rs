@@ -16,6 +16,7 @@ use quadlay::mesh::topology::topology;
 use quadlay::param::{ParamOptions, ParamSession};
 use quadlay::quad::quality::measure;
 use quadlay::quad::{extract, QuadOptions};
+use quadlay::verdict::MISSED_DIAGONAL;
 use std::time::Instant;
 
 #[test]
@@ -80,6 +81,12 @@ fn shared_meshes_get_valid_layouts_and_quads() {
         let coarse = s.faces.len() as f64 > asked / 25.0;
         if got < 0.85 * asked || (got > 1.15 * asked && !coarse) {
             failures.push(format!("{name}: {got} quads where {asked:.0} were asked"));
+        }
+        // Near the surface: within the verdict's bar for a miss (fandisk's first proposal
+        // missed by 8.2 %; the refinement by a short solve splits its distorted faces). Not on
+        // eight, whose 315 vertices are too few for vertex paths that follow the field.
+        if q.hausdorff > MISSED_DIAGONAL && name != "eight.obj" {
+            failures.push(format!("{name}: the quads miss the surface by {:.1} % of the diagonal", 100.0 * q.hausdorff));
         }
     }
     println!("| mesh | quads | Hausdorff | mean angle deviation | irregular vertices | folded | layout time | layout |");
