@@ -9,11 +9,13 @@
 //! rounded to the continuous solution and the dependent ones follow exactly.
 //!
 //! When rounding makes a dependent piece fall below one segment, that piece is fixed at one
-//! and everything is solved again (at most once per piece).
+//! and everything is solved again, at most [`MAX_FIXES`] times.
 //!
 //! That fast path fails on layouts with many T-vertices that do have counts: the least
 //! squares, blind to `n ≥ 1`, makes short pieces negative and the fixes cascade into a dead
-//! end, or a pivot of two leaves a dependent count fractional. Then `bounded` solves the
+//! end, or a pivot of two leaves a dependent count fractional; or it needs more fixes than
+//! [`MAX_FIXES`] (a fix costs an elimination, and the automatic layouts' fixes, 13 to 25 a
+//! layout, all ended in a dead end). Then `bounded` solves the
 //! problem with the bound from the start (a small QP over an integer basis of the solutions,
 //! rounded one free piece at a time). The fast path's results are kept whenever it succeeds,
 //! so layouts that counted before count the same.
@@ -76,6 +78,9 @@ struct Echelon {
 }
 
 const EPS: f64 = 1e-9;
+/// The fast path's fixes of pieces at one before the bounded solve takes over (every sample
+/// layout needs none).
+const MAX_FIXES: usize = 4;
 
 fn coefficient(row: &Row, col: usize) -> f64 {
     row.binary_search_by_key(&col, |e| e.0).map_or(0.0, |k| row[k].1)
@@ -311,10 +316,11 @@ fn rounded_least_squares(desired: &[f64], sparse: &[Row]) -> Result<Vec<u32>, Co
         }
         match below {
             None => return Ok(counts.iter().map(|&v| v as u32).collect()),
-            Some(c) => {
+            Some(c) if pieces_at_one.len() < MAX_FIXES => {
                 at_one[c] = true;
                 pieces_at_one.push(c as u32);
             }
+            Some(_) => return Err(CountError::Infeasible { pieces_at_one }),
         }
     }
 }
