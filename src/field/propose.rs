@@ -21,7 +21,7 @@
 //! 6. A short solve measures each face's distortion; the faces far more distorted than the
 //!    others get a cross of traces where it concentrates, and steps 4–5 run again, while the
 //!    layout's distortion goes down; then a long side of a sliver face goes while the
-//!    integer sample counts come nearer what the curves ask for ([`refine`], [`sliver_sides`]).
+//!    integer sample counts come nearer what the curves ask for (`refine`, [`sliver_sides`]).
 
 use super::faces::{analyze, FaceInfo};
 use super::graph::CurveGraph;

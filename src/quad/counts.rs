@@ -9,12 +9,12 @@
 //! rounded to the continuous solution and the dependent ones follow exactly.
 //!
 //! When rounding makes a dependent piece fall below one segment, that piece is fixed at one
-//! and everything is solved again, at most [`MAX_FIXES`] times.
+//! and everything is solved again, at most `MAX_FIXES` times.
 //!
 //! That fast path fails on layouts with many T-vertices that do have counts: the least
 //! squares, blind to `n ≥ 1`, makes short pieces negative and the fixes cascade into a dead
 //! end, or a pivot of two leaves a dependent count fractional; or it needs more fixes than
-//! [`MAX_FIXES`] (a fix costs an elimination, and the automatic layouts' fixes, 13 to 25 a
+//! `MAX_FIXES` (a fix costs an elimination, and the automatic layouts' fixes, 13 to 25 a
 //! layout, all ended in a dead end). Then `bounded` solves the
 //! problem with the bound from the start (a small QP over an integer basis of the solutions,
 //! rounded one free piece at a time). The fast path's results are kept whenever it succeeds,
