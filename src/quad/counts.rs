@@ -8,17 +8,17 @@
 //! elimination on `B` splits the pieces into free and dependent ones; the free ones are
 //! rounded to the continuous solution and the dependent ones follow exactly.
 //!
-//! When rounding makes a dependent piece fall below one segment, that piece is fixed at one
-//! and everything is solved again, at most `MAX_FIXES` times.
+//! The paper goes on: when rounding makes a dependent piece fall below one segment, that
+//! piece is fixed at one and everything is solved again. Here `bounded` takes over instead
+//! (`MAX_FIXES` is 0): every sample layout rounds with no fix, and on the automatic layouts
+//! the fixes (13 to 25 a layout, an elimination each) all ended in a dead end.
 //!
 //! That fast path fails on layouts with many T-vertices that do have counts: the least
 //! squares, blind to `n ≥ 1`, makes short pieces negative and the fixes cascade into a dead
-//! end, or a pivot of two leaves a dependent count fractional; or it needs more fixes than
-//! `MAX_FIXES` (a fix costs an elimination, and the automatic layouts' fixes, 13 to 25 a
-//! layout, all ended in a dead end). Then `bounded` solves the
+//! end, or a pivot of two leaves a dependent count fractional. Then `bounded` solves the
 //! problem with the bound from the start (a small QP over an integer basis of the solutions,
-//! rounded one free piece at a time). The fast path's results are kept whenever it succeeds,
-//! so layouts that counted before count the same.
+//! rounded one free piece at a time). The fast path's results are kept whenever it succeeds
+//! without a fix, so every sample layout counts as before.
 //!
 //! When the equations cannot hold with every piece at one segment or more — a T-vertex
 //! configuration that forces a piece to zero, say a side `a + b` opposite a side `c` while
@@ -78,9 +78,9 @@ struct Echelon {
 }
 
 const EPS: f64 = 1e-9;
-/// The fast path's fixes of pieces at one before the bounded solve takes over (every sample
-/// layout needs none).
-const MAX_FIXES: usize = 4;
+/// The fast path's fixes of pieces at one before the bounded solve takes over (see the module
+/// documentation).
+const MAX_FIXES: usize = 0;
 
 fn coefficient(row: &Row, col: usize) -> f64 {
     row.binary_search_by_key(&col, |e| e.0).map_or(0.0, |k| row[k].1)
