@@ -9,9 +9,9 @@
 //! rounded to the continuous solution and the dependent ones follow exactly.
 //!
 //! The paper goes on: when rounding makes a dependent piece fall below one segment, that
-//! piece is fixed at one and everything is solved again. Here `bounded` takes over instead
-//! (`MAX_FIXES` is 0): every sample layout rounds with no fix, and on the automatic layouts
-//! the fixes (13 to 25 a layout, an elimination each) all ended in a dead end.
+//! piece is fixed at one and everything is solved again. Here `bounded` takes over instead:
+//! every sample layout rounds with no fix, and on the automatic layouts the fixes (13 to 25
+//! a layout, an elimination each) all ended in a dead end.
 //!
 //! That fast path fails on layouts with many T-vertices that do have counts: the least
 //! squares, blind to `n ≥ 1`, makes short pieces negative and the fixes cascade into a dead
@@ -78,9 +78,6 @@ struct Echelon {
 }
 
 const EPS: f64 = 1e-9;
-/// The fast path's fixes of pieces at one before the bounded solve takes over (see the module
-/// documentation).
-const MAX_FIXES: usize = 0;
 
 fn coefficient(row: &Row, col: usize) -> f64 {
     row.binary_search_by_key(&col, |e| e.0).map_or(0.0, |k| row[k].1)
@@ -278,51 +275,37 @@ fn sparse_rows(equations: &[Equation]) -> Vec<Row> {
 }
 
 /// The paper's rounding (module documentation): least squares, free pieces rounded, the
-/// dependent ones following, a dependent below one fixed at one and everything solved again.
+/// dependent ones following.
 ///
 /// # Errors
-/// [`CountError::Infeasible`] when the fixes reach equations that contradict each other,
-/// [`CountError::Fractional`] at a non-unit pivot, [`CountError::Solver`] (not seen).
+/// [`CountError::Infeasible`] when the equations contradict each other or a dependent piece
+/// falls below one (the bounded solve takes over), [`CountError::Fractional`] at a non-unit
+/// pivot, [`CountError::Solver`] (not seen).
 fn rounded_least_squares(desired: &[f64], sparse: &[Row]) -> Result<Vec<u32>, CountError> {
     let n = desired.len();
-    let mut at_one = vec![false; n];
-    let mut pieces_at_one: Vec<u32> = Vec::new();
-    loop {
-        let active: Vec<usize> = (0..n).filter(|&c| !at_one[c]).collect();
-        let rhs: Vec<f64> =
-            sparse.iter().map(|row| -row.iter().filter(|e| at_one[e.0]).map(|e| e.1).sum::<f64>()).collect();
-        let rows: Vec<Row> = sparse.iter().map(|row| row.iter().copied().filter(|e| !at_one[e.0]).collect()).collect();
-        let infeasible = || CountError::Infeasible { pieces_at_one: pieces_at_one.clone() };
-        let e = echelon(rows, rhs, &active, n).ok_or_else(infeasible)?;
-        let continuous = continuous_free(&e, desired, n)?;
-        let mut counts = vec![1.0; n];
-        for (&c, &x) in e.free.iter().zip(&continuous) {
-            counts[c] = x.round().max(1.0);
-        }
-        let mut is_free = vec![false; n];
-        for &c in &e.free {
-            is_free[c] = true;
-        }
-        let mut below = None;
-        for (pivot, coef, rhs) in &e.rows {
-            let v = rhs - coef.iter().filter(|&&(c, _)| is_free[c]).map(|&(c, r)| r * counts[c]).sum::<f64>();
-            if (v - v.round()).abs() > 1e-6 {
-                return Err(CountError::Fractional { piece: *pivot as u32 });
-            }
-            counts[*pivot] = v.round();
-            if v.round() < 1.0 && below.is_none() {
-                below = Some(*pivot);
-            }
-        }
-        match below {
-            None => return Ok(counts.iter().map(|&v| v as u32).collect()),
-            Some(c) if pieces_at_one.len() < MAX_FIXES => {
-                at_one[c] = true;
-                pieces_at_one.push(c as u32);
-            }
-            Some(_) => return Err(CountError::Infeasible { pieces_at_one }),
-        }
+    let active: Vec<usize> = (0..n).collect();
+    let infeasible = |pieces_at_one: Vec<u32>| CountError::Infeasible { pieces_at_one };
+    let e = echelon(sparse.to_vec(), vec![0.0; sparse.len()], &active, n).ok_or_else(|| infeasible(Vec::new()))?;
+    let continuous = continuous_free(&e, desired, n)?;
+    let mut counts = vec![1.0; n];
+    for (&c, &x) in e.free.iter().zip(&continuous) {
+        counts[c] = x.round().max(1.0);
     }
+    let mut is_free = vec![false; n];
+    for &c in &e.free {
+        is_free[c] = true;
+    }
+    for (pivot, coef, rhs) in &e.rows {
+        let v = rhs - coef.iter().filter(|&&(c, _)| is_free[c]).map(|&(c, r)| r * counts[c]).sum::<f64>();
+        if (v - v.round()).abs() > 1e-6 {
+            return Err(CountError::Fractional { piece: *pivot as u32 });
+        }
+        if v.round() < 1.0 {
+            return Err(infeasible(vec![*pivot as u32]));
+        }
+        counts[*pivot] = v.round();
+    }
+    Ok(counts.iter().map(|&v| v as u32).collect())
 }
 
 #[cfg(test)]
