@@ -16,7 +16,6 @@ pub mod graph;
 pub mod propose;
 pub mod separatrix;
 pub mod singularities;
-pub mod slivers;
 pub mod trace;
 pub mod waypoints;
 
