@@ -4,7 +4,7 @@
 //! vertex inside, and no segment may have the same face on both sides.
 
 use super::graph::CurveGraph;
-use crate::mesh::geometry::triangle_areas;
+use crate::mesh::geometry::{edge_lengths, triangle_areas};
 use crate::mesh::{Mesh, NONE};
 use std::collections::VecDeque;
 
@@ -12,6 +12,8 @@ use std::collections::VecDeque;
 #[derive(Debug, Clone, Default)]
 pub struct FaceInfo {
     pub area: f64,
+    /// The length of its boundary: curves and the mesh boundary.
+    pub perimeter: f64,
     /// V − E + F of its triangles.
     pub euler: i64,
     /// The nodes on its boundary.
@@ -67,6 +69,7 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
     let mut faces: Vec<FaceInfo> = Vec::new();
     let mut of_triangle = vec![NONE; nf];
     let areas = triangle_areas(mesh);
+    let lengths = edge_lengths(mesh);
     for t in 0..nf as u32 {
         let r = find(&mut parent, t) as usize;
         if id[r] == NONE {
@@ -86,6 +89,13 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
         for x in [a, b] {
             if x != NONE {
                 faces[x as usize].euler -= 1;
+            }
+        }
+        if a != b || cut_by[e as usize] != NONE {
+            for x in [a, b] {
+                if x != NONE {
+                    faces[x as usize].perimeter += lengths[e as usize];
+                }
             }
         }
         if a == b && a != NONE {

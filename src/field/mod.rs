@@ -16,6 +16,7 @@ pub mod graph;
 pub mod propose;
 pub mod separatrix;
 pub mod singularities;
+pub mod slivers;
 pub mod trace;
 pub mod waypoints;
 

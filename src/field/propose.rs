@@ -20,12 +20,13 @@
 //!    side get general quad charts, the others rectangles (the paper's Section 5).
 //! 6. A short solve measures each face's distortion; the faces far more distorted than the
 //!    others get a cross of traces where it concentrates, and steps 4–5 run again, while the
-//!    layout's distortion goes down; then the traces whose sample counts miss most go while
-//!    the integer counts come nearer what the curves ask for (`refine`).
+//!    layout's distortion goes down; then a long side of a sliver face goes while the
+//!    integer sample counts come nearer what the curves ask for (`refine`, [`sliver_sides`]).
 
 use super::faces::{analyze, FaceInfo};
 use super::graph::CurveGraph;
 use super::separatrix::separatrix_directions;
+use super::slivers::sliver_sides;
 use super::trace::{Motorcycles, TraceEnd, BLOCKED};
 use super::waypoints::sparse_waypoints;
 use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
@@ -109,10 +110,8 @@ const REFINES: usize = 3;
 const SPLIT_RATIO: f64 = 2.0;
 /// ... and above this (a quarter of its area has lengths off by more than a quarter).
 const SPLIT_FLOOR: f64 = 0.25;
-/// Bound on the trace removals [`refine`] tries (each writes the layout again)...
+/// Bound on the removals of a sliver's side tried ([`refine`]; each writes the layout again).
 const MERGE_TRIES: usize = 12;
-/// ... and on those it tries in one round, the curves whose counts miss most.
-const MERGE_CANDIDATES: usize = 6;
 
 /// Proposes a coarse quad layout for `mesh`; see the module documentation.
 ///
@@ -236,14 +235,12 @@ fn finish(
 /// (bench): Hausdorff distance on fandisk 8.2 → 3.0 % of the diagonal, elephant 3.6 → 2.3 %,
 /// bunny_28k 2.9 → 2.3 %; nefertiti, eight and mushroom keep their first layout.
 ///
-/// Then the counts: a strip of quads keeps its width from face to face, so where two traces
-/// run close in one place and far apart in another (a sliver), one of the two gets skewed
-/// quads whatever the counts, and the integer counts end far from what the curves ask for
-/// (bunny_28k: a 1 × 11 face whose short sides asked for one segment got seven). Among the
-/// curves whose counts miss most ([`Written::count_miss`]), a trace is removed where that
-/// brings the counts nearer ([`Written::count_error`]), at most [`MERGE_TRIES`] tries:
-/// Hausdorff distance on bunny_28k 2.3 → 1.35 %, eight 7.9 → 3.1 %, bunny_1k8 3.9 → 2.7 %;
-/// mushroom's angle deviation 7.5 → 3.9°.
+/// Then slivers: a strip of quads keeps its width from face to face, so a strip one quad wide
+/// in a sliver and seven where its traces part skews one of the two whatever the counts, and
+/// the integer counts end far from what the curves ask for (bunny_28k: a 1 × 11 face whose
+/// short sides asked for one segment got seven). A sliver's long side is removed where that
+/// brings the counts nearer (`count_error`), at most [`MERGE_TRIES`] tries: fandisk 3.0 → 0.7 %,
+/// bunny_28k's folded quads 5 → 0 and its angle deviation 16.4 → 14.5°.
 fn refine(
     mesh: &Mesh,
     field: &CrossField,
@@ -253,13 +250,12 @@ fn refine(
     first: Written,
     seeds_left: usize,
 ) -> (Layout, SurfaceLayout) {
-    let mut best = (g, first);
-    let Some(mut score) = best.1.param.take().and_then(|p| solved_distortion(p, &best.1.surface)) else {
-        return (best.1.layout, best.1.surface);
-    };
+    let Written { layout, surface, param, count_error } = first;
+    let Some(mut score) = param.and_then(|p| solved_distortion(p, &surface)) else { return (layout, surface) };
+    let mut best = (g, layout, surface, count_error);
     let h = default_edge_length(mesh);
     for _ in 0..REFINES {
-        let surface = &best.1.surface;
+        let surface = &best.2;
         let mut bad = faces_above(&score.face_area, &score.measured, h, SPLIT_RATIO, SPLIT_FLOOR);
         let weight = |f: usize| score.face_area[f] * score.measured.length_error[f];
         bad.sort_by(|&a, &b| weight(b).total_cmp(&weight(a)));
@@ -274,9 +270,9 @@ fn refine(
             let mut trial = best.0.clone();
             seed(mesh, field, &mut trial, seeds, diag);
             let mut left = seeds_left;
-            let mut w = finish(mesh, field, &mut trial, options, diag, &mut left, true).ok()?;
-            let s = solved_distortion(w.param.take()?, &w.surface).filter(|s| s.mean < score.mean)?;
-            Some((s, (trial, w)))
+            let Written { layout, surface, param, count_error } = finish(mesh, field, &mut trial, options, diag, &mut left, true).ok()?;
+            let s = solved_distortion(param?, &surface).filter(|s| s.mean < score.mean)?;
+            Some((s, (trial, layout, surface, count_error)))
         };
         let tries: &[&[u32]] = if seeds.len() > 1 { &[&seeds, &seeds[..1]] } else { &[&seeds] };
         let improved = tries.iter().filter(|t| !t.is_empty()).find_map(|t| split(t));
@@ -284,35 +280,29 @@ fn refine(
         score = s;
         best = better;
     }
-    // Traces whose counts miss most: remove one while the counts come nearer what the curves
-    // ask for, the worst first.
+    // Slivers: remove a long side of one while the counts come nearer what the curves ask for.
     let mut tries = MERGE_TRIES;
     while tries > 0 {
-        let live: Vec<u32> = best.0.live().collect();
-        let mut worst: Vec<(f64, u32)> = live
-            .iter()
-            .zip(&best.1.count_miss)
-            .filter(|(&s, _)| !best.0.segments[s as usize].feature)
-            .map(|(&s, &miss)| (miss, s))
-            .collect();
-        worst.sort_by(|a, b| b.0.total_cmp(&a.0));
         let mut merged = None;
-        for &(_, s) in worst.iter().take(MERGE_CANDIDATES.min(tries)) {
+        for s in sliver_sides(mesh, &best.0) {
+            if tries == 0 {
+                break;
+            }
             tries -= 1;
             let mut trial = best.0.clone();
             trial.remove(s);
             let mut left = seeds_left;
             // Set up the parameterization (its checks) only for a removal that helps.
             let Ok(w) = finish(mesh, field, &mut trial, options, diag, &mut left, false) else { continue };
-            if w.count_error < best.1.count_error && ParamSession::new(mesh, &w.surface, &ParamOptions::default()).is_ok() {
-                merged = Some((trial, w));
+            if w.count_error < best.3 && ParamSession::new(mesh, &w.surface, &ParamOptions::default()).is_ok() {
+                merged = Some((trial, w.layout, w.surface, w.count_error));
                 break;
             }
         }
         let Some(m) = merged else { break };
         best = m;
     }
-    (best.1.layout, best.1.surface)
+    (best.1, best.2)
 }
 
 /// A layout's distortion after the harmonic solve and one chart optimization (near what three
@@ -697,9 +687,6 @@ struct Written {
     /// How far the integer sample counts are from what the curves' lengths ask for: the sum of
     /// the differences over the sum of the wishes (each at least one segment).
     count_error: f64,
-    /// Per layout curve (edges in order, then boundary pieces): how far its integer counts are
-    /// from what its faces ask for, in segments.
-    count_miss: Vec<f64>,
 }
 
 /// The layout file of the graph, checked by the layout reader and the sample-count equations.
@@ -781,19 +768,16 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
         };
         return Err(Rejected::Counts(e, Box::new(surface)));
     }
-    let n = counts.unwrap_or_default();
-    let wished: Vec<f64> = problem.desired.iter().map(|d| d.max(1.0)).collect();
-    let mut count_miss = vec![0.0; surface.curves.len()];
-    for ((&n, d), &c) in n.iter().zip(&wished).zip(&problem.curve) {
-        count_miss[c as usize] += (n as f64 - d).abs();
-    }
-    let count_error = count_miss.iter().sum::<f64>() / wished.iter().sum::<f64>();
+    let count_error = counts.map_or(f64::INFINITY, |n| {
+        let wished: Vec<f64> = problem.desired.iter().map(|d| d.max(1.0)).collect();
+        n.iter().zip(&wished).map(|(&n, d)| (n as f64 - d).abs()).sum::<f64>() / wished.iter().sum::<f64>()
+    });
     if !set_up {
-        return Ok(Written { layout, surface, param: None, count_error, count_miss });
+        return Ok(Written { layout, surface, param: None, count_error });
     }
     // The parameterization's own checks of the cut mesh.
     match ParamSession::new(mesh, &surface, &ParamOptions::default()) {
-        Ok(param) => Ok(Written { layout, surface, param: Some(param), count_error, count_miss }),
+        Ok(param) => Ok(Written { layout, surface, param: Some(param), count_error }),
         Err(e) => {
             let v = match e {
                 ParamError::NotNeighbours { vertex, .. } => vertex,
