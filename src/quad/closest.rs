@@ -188,6 +188,13 @@ impl TriangleTree {
         self.search(p, -1.0, &mut 0)
     }
 
+    /// [`closest`](Self::closest), looking first in the leaf `leaf` (the one a query near
+    /// `p` ended in) and leaving there the leaf of the answer: a run of queries that each move
+    /// a little mostly end where they start.
+    pub fn closest_from(&self, p: Vec3, leaf: &mut u32) -> Option<Hit> {
+        self.search(p, -1.0, leaf)
+    }
+
     /// The squared distance from `p` to the nearest triangle if it is larger than `floor`;
     /// `None` as soon as a triangle within `floor` is found (or for an empty tree or a
     /// non-finite `p`). For the Hausdorff distance, a max of min distances: a sample nearer

@@ -1,0 +1,302 @@
+//! Relaxation of an extracted quad mesh on the surface: each free vertex moves toward the
+//! mean of its edge neighbours within the surface's tangent plane and is put back on the
+//! surface at the nearest point, a few rounds.
+//!
+//! Why: the grid of Section 4 is straight in each chart, but the charts meet with kinks
+//! where a layout edge is not tagged (its pieces are straight in both charts, not across
+//! them), at T-vertices, and where the harmonic map shears a chart. Those kinks are the skew
+//! corners a user sees; the surface does not need them. Vertices on tagged curves (the edge
+//! loops the user asked for, the boundary, sharp features) stay where they are, so every
+//! promise of the layout is kept, and so do vertices on creases of the quads; a move that would fold a quad or turn one of its corners
+//! inside out is taken back.
+
+use super::closest::TriangleTree;
+use super::QuadMesh;
+use crate::geom::{cross, dot, norm, sub, Vec3};
+
+/// Rounds of relaxation: enough to straighten grid lines across a kink a few quads wide,
+/// few enough not to drift over the surface.
+pub const ROUNDS: usize = 10;
+/// Quads meeting at a vertex at more than this angle (degrees) make it a crease vertex, which
+/// stays: the default sharp-feature angle of the automatic layout.
+const CREASE: f64 = crate::field::DEFAULT_FEATURE_ANGLE;
+/// The share of the way to its neighbours' mean a vertex moves in one round.
+const DAMPING: f64 = 0.5;
+
+/// The surface the quads are relaxed on: its triangles and a tree over them.
+pub struct Surface {
+    triangles: Vec<[Vec3; 3]>,
+    tree: TriangleTree,
+}
+
+impl Surface {
+    pub fn new(triangles: Vec<[Vec3; 3]>) -> Surface {
+        let tree = TriangleTree::new(triangles.iter().copied());
+        Surface { triangles, tree }
+    }
+
+    /// The nearest surface point to `p` and the unit normal of its triangle; `leaf` as
+    /// [`TriangleTree::closest_from`] takes it.
+    fn project(&self, p: Vec3, leaf: &mut u32) -> Option<(Vec3, Vec3)> {
+        let hit = self.tree.closest_from(p, leaf)?;
+        let [a, b, c] = self.triangles[hit.triangle as usize];
+        let n = cross(sub(b, a), sub(c, a));
+        let l = norm(n);
+        (l > 0.0).then(|| (hit.point, n.map(|x| x / l)))
+    }
+}
+
+/// What the relaxation must not make worse in a quad.
+#[derive(Debug, Clone, Copy)]
+struct QuadState {
+    /// Every corner turns the same way as the surface (convex seen from outside).
+    convex: bool,
+    /// The quad's normal (the cross product of its diagonals) points against the surface's
+    /// nearest to its centre (as [`super::quality`] counts folded quads).
+    flipped: bool,
+}
+
+/// The shape of quad `q` at positions `p`: `normals` are the surface normals at its corners,
+/// `surface` finds the one nearest its centre (starting in `leaf`).
+fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mut u32) -> QuadState {
+    let c = q.map(|v| p[v as usize]);
+    let convex = (0..4).all(|k| {
+        let (a, b, d) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
+        dot(cross(sub(d, b), sub(a, b)), normals[q[k] as usize]) > 0.0
+    });
+    let centre: Vec3 = std::array::from_fn(|i| c.iter().map(|x| x[i]).sum::<f64>() / 4.0);
+    let normal = surface.project(centre, leaf).map_or([0.0; 3], |(_, n)| n);
+    let flipped = dot(cross(sub(c[2], c[0]), sub(c[3], c[1])), normal) <= 0.0;
+    QuadState { convex, flipped }
+}
+
+/// The points of a quad whose distance from the surface stands for the quad's: its centre and
+/// its edge midpoints.
+fn probes(p: &[Vec3], q: [u32; 4]) -> [Vec3; 5] {
+    let c = q.map(|v| p[v as usize]);
+    let mid = |a: Vec3, b: Vec3| -> Vec3 { std::array::from_fn(|i| (a[i] + b[i]) / 2.0) };
+    [mid(mid(c[0], c[2]), mid(c[1], c[3])), mid(c[0], c[1]), mid(c[1], c[2]), mid(c[2], c[3]), mid(c[3], c[0])]
+}
+
+/// The sum over the corners of quad `q` of |corner angle − 90°|, in radians.
+fn skew(p: &[Vec3], q: [u32; 4]) -> f64 {
+    (0..4)
+        .map(|k| {
+            let (a, b, c) = (p[q[(k + 3) % 4] as usize], p[q[k] as usize], p[q[(k + 1) % 4] as usize]);
+            let (u, w) = (sub(a, b), sub(c, b));
+            let l = norm(u) * norm(w);
+            if l > 0.0 { ((dot(u, w) / l).clamp(-1.0, 1.0).acos() - std::f64::consts::FRAC_PI_2).abs() } else { 0.0 }
+        })
+        .sum()
+}
+
+/// The mean length of a quad's edges.
+fn size(p: &[Vec3], q: [u32; 4]) -> f64 {
+    (0..4).map(|k| norm(sub(p[q[(k + 1) % 4] as usize], p[q[k] as usize]))).sum::<f64>() / 4.0
+}
+
+/// How far a relaxed quad may stray from the surface beyond where extraction put it, as a
+/// fraction of its edge length: far below the chord error of a quad mesh a user would keep.
+const STRAY: f64 = 0.1;
+
+/// Whether a quad keeps the shape it had `before`.
+fn keeps(before: &QuadState, now: &QuadState) -> bool {
+    (now.convex || !before.convex) && (!now.flipped || before.flipped)
+}
+
+/// Relaxes the vertices of `quads` not `pinned` on `surface`, [`ROUNDS`] rounds. Returns the
+/// number of vertices that moved.
+pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool]) -> usize {
+    let n = quads.positions.len();
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut incident: Vec<Vec<u32>> = vec![Vec::new(); n];
+    for (i, q) in quads.quads.iter().enumerate() {
+        for k in 0..4 {
+            let (a, b) = (q[k], q[(k + 1) % 4]);
+            if !neighbours[a as usize].contains(&b) {
+                neighbours[a as usize].push(b);
+                neighbours[b as usize].push(a);
+            }
+            incident[a as usize].push(i as u32);
+        }
+    }
+    // The tree's leaf each vertex and each quad was last found in.
+    let mut vertex_leaf = vec![0u32; n];
+    let mut quad_leaf = vec![[0u32; 5]; quads.quads.len()];
+    let mut normals: Vec<Vec3> =
+        (0..n).map(|v| surface.project(quads.positions[v], &mut vertex_leaf[v]).map_or([0.0; 3], |(_, n)| n)).collect();
+    let before: Vec<QuadState> =
+        (0..quads.quads.len()).map(|i| shape(&quads.positions, quads.quads[i], &normals, surface, &mut quad_leaf[i][0])).collect();
+    // Vertices on a crease of the quads (a sharp edge no tag holds) stay too: a move to the
+    // neighbours' mean would round it off. (Quads folded against the surface make no crease:
+    // they are what the relaxation may mend.)
+    let quad_normal = |q: &[u32; 4]| -> Vec3 {
+        let c = q.map(|v| quads.positions[v as usize]);
+        let m = cross(sub(c[2], c[0]), sub(c[3], c[1]));
+        let l = norm(m);
+        if l > 0.0 { m.map(|x| x / l) } else { m }
+    };
+    let unit: Vec<Vec3> = quads.quads.iter().map(quad_normal).collect();
+    let crease = CREASE.to_radians().cos();
+    let on_crease = |v: usize| {
+        let around = &incident[v];
+        let fair = |q: &&u32| !before[**q as usize].flipped;
+        around.iter().filter(fair).any(|&a| around.iter().filter(fair).any(|&b| dot(unit[a as usize], unit[b as usize]) < crease))
+    };
+    let pinned: Vec<bool> = (0..n).map(|v| pinned[v] || on_crease(v)).collect();
+    // How far from the surface each quad may be: as far as extraction put it, and a little.
+    let reach: Vec<f64> = (0..quads.quads.len())
+        .map(|i| {
+            let q = quads.quads[i];
+            let far = probes(&quads.positions, q)
+                .iter()
+                .zip(&mut quad_leaf[i])
+                .filter_map(|(&x, leaf)| surface.tree.closest_from(x, leaf))
+                .map(|hit| hit.distance_squared.sqrt())
+                .fold(0.0, f64::max);
+            far + STRAY * size(&quads.positions, q)
+        })
+        .collect();
+    // One vertex at a time (Gauss–Seidel), each move kept only if its quads' corners come
+    // nearer right angles or fewer of them are folded, and none of them loses its shape or
+    // strays from the surface: the relaxation never makes a quad worse than extraction did.
+    let mut moved = vec![false; n];
+    let mut centre_leaf = 0;
+    for _ in 0..ROUNDS {
+        for v in 0..n {
+            if pinned[v] || neighbours[v].is_empty() {
+                continue;
+            }
+            let p = quads.positions[v];
+            let k = neighbours[v].len() as f64;
+            let mean: Vec3 = std::array::from_fn(|i| neighbours[v].iter().map(|&w| quads.positions[w as usize][i]).sum::<f64>() / k);
+            let d = sub(mean, p);
+            let nv = normals[v];
+            let along = dot(d, nv);
+            let step: Vec3 = std::array::from_fn(|i| DAMPING * (d[i] - along * nv[i]));
+            let target: Vec3 = std::array::from_fn(|i| p[i] + step[i]);
+            // A nearest point far from the step's end is another sheet of the surface.
+            let Some((q, nq)) = surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= norm(step)) else {
+                continue;
+            };
+            let around = &incident[v];
+            let skew_around = |p: &[Vec3]| around.iter().map(|&i| skew(p, quads.quads[i as usize])).sum::<f64>();
+            let mut folded_around =
+                |p: &[Vec3], normals: &[Vec3]| around.iter().filter(|&&i| shape(p, quads.quads[i as usize], normals, surface, &mut centre_leaf).flipped).count();
+            let (skew_before, folded_before) = (skew_around(&quads.positions), folded_around(&quads.positions, &normals));
+            let old_normal = normals[v];
+            quads.positions[v] = q;
+            normals[v] = nq;
+            let better = skew_around(&quads.positions) < skew_before || folded_around(&quads.positions, &normals) < folded_before;
+            let sound = better
+                && around.iter().all(|&i| {
+                    let quad = quads.quads[i as usize];
+                    let floor = reach[i as usize] * reach[i as usize];
+                    keeps(&before[i as usize], &shape(&quads.positions, quad, &normals, surface, &mut centre_leaf))
+                        && probes(&quads.positions, quad)
+                            .iter()
+                            .zip(quad_leaf[i as usize].iter_mut())
+                            .all(|(&x, leaf)| surface.tree.distance_squared_beyond(x, floor, leaf).is_none())
+                });
+            if sound {
+                moved[v] = true;
+            } else {
+                quads.positions[v] = p;
+                normals[v] = old_normal;
+            }
+        }
+    }
+    moved.iter().filter(|&&m| m).count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::NONE;
+
+    /// An n × n grid of quads on the unit square (z = 0), with `offset` added to each interior
+    /// vertex at (i, j); the boundary vertices pinned.
+    fn grid(n: usize, offset: impl Fn(usize, usize) -> [f64; 2]) -> (QuadMesh, Vec<bool>) {
+        let mut positions = Vec::new();
+        let mut pinned = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let boundary = i == 0 || j == 0 || i == n || j == n;
+                let d = if boundary { [0.0; 2] } else { offset(i, j) };
+                positions.push([i as f64 / n as f64 + d[0], j as f64 / n as f64 + d[1], 0.0]);
+                pinned.push(boundary);
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let quads = (0..n).flat_map(|j| (0..n).map(move |i| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])).collect();
+        let vertex_node = vec![NONE; positions.len()];
+        (QuadMesh { positions, quads, vertex_node }, pinned)
+    }
+
+    fn plane() -> Surface {
+        Surface::new(vec![[[-1.0, -1.0, 0.0], [2.0, -1.0, 0.0], [2.0, 2.0, 0.0]], [[-1.0, -1.0, 0.0], [2.0, 2.0, 0.0], [-1.0, 2.0, 0.0]]])
+    }
+
+    /// Mean |corner angle − 90°| in degrees.
+    fn angle_deviation(m: &QuadMesh) -> f64 {
+        let p = &m.positions;
+        let corners = m.quads.iter().flat_map(|q| {
+            (0..4).map(move |k| {
+                let (a, b, c) = (p[q[(k + 3) % 4] as usize], p[q[k] as usize], p[q[(k + 1) % 4] as usize]);
+                let (u, v) = (sub(a, b), sub(c, b));
+                ((dot(u, v) / (norm(u) * norm(v))).acos().to_degrees() - 90.0).abs()
+            })
+        });
+        let all: Vec<f64> = corners.collect();
+        all.iter().sum::<f64>() / all.len() as f64
+    }
+
+    #[test]
+    fn a_regular_grid_stays_as_it_is() {
+        let (mut m, pinned) = grid(6, |_, _| [0.0; 2]);
+        let before = m.positions.clone();
+        relax(&mut m, &plane(), &pinned);
+        for (a, b) in m.positions.iter().zip(&before) {
+            assert!(norm(sub(*a, *b)) < 1e-12, "{a:?} moved from {b:?}");
+        }
+    }
+
+    #[test]
+    fn a_skewed_grid_gets_straighter_on_the_surface_and_the_pinned_stay() {
+        // Interior vertices pushed along a wave: skewed corners, none folded.
+        let (mut m, pinned) = grid(8, |i, j| [0.04 * (j as f64).sin(), 0.04 * (i as f64 * 1.7).cos()]);
+        let before = m.clone();
+        let skew = angle_deviation(&m);
+        let moved = relax(&mut m, &plane(), &pinned);
+        assert!(moved > 0);
+        assert!(angle_deviation(&m) < 0.5 * skew, "{} -> {}", skew, angle_deviation(&m));
+        for v in 0..m.positions.len() {
+            assert!(m.positions[v][2].abs() < 1e-12, "left the plane");
+            if pinned[v] {
+                assert_eq!(m.positions[v], before.positions[v]);
+            }
+        }
+        let normals = vec![[0.0, 0.0, 1.0]; m.positions.len()];
+        for &q in &m.quads {
+            let s = shape(&m.positions, q, &normals, &plane(), &mut 0);
+            assert!(s.convex && !s.flipped);
+        }
+    }
+
+    #[test]
+    fn a_vertex_folded_over_its_neighbour_is_unfolded() {
+        // The only free vertex sits beyond the corner of its diagonal neighbour: its quads
+        // fold. Moves that unfold are allowed, and none may fold anything again.
+        let (mut m, mut pinned) = grid(4, |_, _| [0.0; 2]);
+        let v = 2 * 5 + 2;
+        pinned.iter_mut().for_each(|p| *p = true);
+        pinned[v] = false;
+        m.positions[v] = [0.8, 0.8, 0.0];
+        let normals = vec![[0.0, 0.0, 1.0]; m.positions.len()];
+        let folded = |m: &QuadMesh| m.quads.iter().filter(|&&q| shape(&m.positions, q, &normals, &plane(), &mut 0).flipped).count();
+        assert!(folded(&m) > 0);
+        relax(&mut m, &plane(), &pinned);
+        assert_eq!(folded(&m), 0);
+        assert!(norm(sub(m.positions[v], [0.5, 0.5, 0.0])) < 0.01, "{:?}", m.positions[v]);
+    }
+}
