@@ -285,7 +285,7 @@ fn corner_edges(q: &[Vec3; 4], k: usize) -> (Vec3, Vec3) {
 }
 
 /// |angle − 90°| in degrees at each corner.
-fn corner_angle_deviations(q: &[Vec3; 4]) -> [f64; 4] {
+pub(super) fn corner_angle_deviations(q: &[Vec3; 4]) -> [f64; 4] {
     std::array::from_fn(|k| {
         let (u, v) = corner_edges(q, k);
         // atan2 stays accurate near 0° and 180°, unlike acos of the normalized dot product.
@@ -297,7 +297,7 @@ fn corner_angle_deviations(q: &[Vec3; 4]) -> [f64; 4] {
 /// twice the quad's vector area also when it is not planar. It points the same way as the
 /// sum of the four corner cross products and as Verdict's "center normal" (the cross
 /// product of the two lines joining opposite edge midpoints).
-fn quad_normal(q: &[Vec3; 4]) -> Vec3 {
+pub(super) fn quad_normal(q: &[Vec3; 4]) -> Vec3 {
     cross(sub(q[2], q[0]), sub(q[3], q[1]))
 }
 

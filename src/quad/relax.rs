@@ -7,12 +7,13 @@
 //! them), at T-vertices, and where the harmonic map shears a chart. Those kinks are the skew
 //! corners a user sees; the surface does not need them. Vertices on tagged curves (the edge
 //! loops the user asked for, the boundary, sharp features) stay where they are, so every
-//! promise of the layout is kept, and so do vertices on creases of the quads; a move that would fold a quad or turn one of its corners
-//! inside out is taken back.
+//! promise of the layout is kept, and so do vertices on creases of the quads; a move that
+//! would fold a quad or turn one of its corners inside out is taken back.
 
 use super::closest::TriangleTree;
+use super::quality::{corner_angle_deviations, quad_normal};
 use super::QuadMesh;
-use crate::geom::{cross, dot, norm, sub, Vec3};
+use crate::geom::{cross, dot, norm, sub, unit, Vec3};
 
 /// Rounds of relaxation: enough to straighten grid lines across a kink a few quads wide,
 /// few enough not to drift over the surface.
@@ -66,7 +67,7 @@ fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mu
     });
     let centre: Vec3 = std::array::from_fn(|i| c.iter().map(|x| x[i]).sum::<f64>() / 4.0);
     let normal = surface.project(centre, leaf).map_or([0.0; 3], |(_, n)| n);
-    let flipped = dot(cross(sub(c[2], c[0]), sub(c[3], c[1])), normal) <= 0.0;
+    let flipped = dot(quad_normal(&c), normal) <= 0.0;
     QuadState { convex, flipped }
 }
 
@@ -78,16 +79,9 @@ fn probes(p: &[Vec3], q: [u32; 4]) -> [Vec3; 5] {
     [mid(mid(c[0], c[2]), mid(c[1], c[3])), mid(c[0], c[1]), mid(c[1], c[2]), mid(c[2], c[3]), mid(c[3], c[0])]
 }
 
-/// The sum over the corners of quad `q` of |corner angle − 90°|, in radians.
+/// The sum over the corners of quad `q` of |corner angle − 90°|, in degrees.
 fn skew(p: &[Vec3], q: [u32; 4]) -> f64 {
-    (0..4)
-        .map(|k| {
-            let (a, b, c) = (p[q[(k + 3) % 4] as usize], p[q[k] as usize], p[q[(k + 1) % 4] as usize]);
-            let (u, w) = (sub(a, b), sub(c, b));
-            let l = norm(u) * norm(w);
-            if l > 0.0 { ((dot(u, w) / l).clamp(-1.0, 1.0).acos() - std::f64::consts::FRAC_PI_2).abs() } else { 0.0 }
-        })
-        .sum()
+    corner_angle_deviations(&q.map(|v| p[v as usize])).iter().sum()
 }
 
 /// The mean length of a quad's edges.
@@ -130,13 +124,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool]) -> usize 
     // Vertices on a crease of the quads (a sharp edge no tag holds) stay too: a move to the
     // neighbours' mean would round it off. (Quads folded against the surface make no crease:
     // they are what the relaxation may mend.)
-    let quad_normal = |q: &[u32; 4]| -> Vec3 {
-        let c = q.map(|v| quads.positions[v as usize]);
-        let m = cross(sub(c[2], c[0]), sub(c[3], c[1]));
-        let l = norm(m);
-        if l > 0.0 { m.map(|x| x / l) } else { m }
-    };
-    let unit: Vec<Vec3> = quads.quads.iter().map(quad_normal).collect();
+    let unit: Vec<Vec3> = quads.quads.iter().map(|q| unit(quad_normal(&q.map(|v| quads.positions[v as usize])))).collect();
     let crease = CREASE.to_radians().cos();
     let on_crease = |v: usize| {
         let around = &incident[v];
@@ -181,19 +169,20 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool]) -> usize 
             };
             let around = &incident[v];
             let skew_around = |p: &[Vec3]| around.iter().map(|&i| skew(p, quads.quads[i as usize])).sum::<f64>();
-            let mut folded_around =
-                |p: &[Vec3], normals: &[Vec3]| around.iter().filter(|&&i| shape(p, quads.quads[i as usize], normals, surface, &mut centre_leaf).flipped).count();
-            let (skew_before, folded_before) = (skew_around(&quads.positions), folded_around(&quads.positions, &normals));
+            let mut shapes_around =
+                |p: &[Vec3], normals: &[Vec3]| -> Vec<QuadState> { around.iter().map(|&i| shape(p, quads.quads[i as usize], normals, surface, &mut centre_leaf)).collect() };
+            let folded = |shapes: &[QuadState]| shapes.iter().filter(|s| s.flipped).count();
+            let (skew_before, folded_before) = (skew_around(&quads.positions), folded(&shapes_around(&quads.positions, &normals)));
             let old_normal = normals[v];
             quads.positions[v] = q;
             normals[v] = nq;
-            let better = skew_around(&quads.positions) < skew_before || folded_around(&quads.positions, &normals) < folded_before;
+            let shapes = shapes_around(&quads.positions, &normals);
+            let better = skew_around(&quads.positions) < skew_before || folded(&shapes) < folded_before;
             let sound = better
-                && around.iter().all(|&i| {
-                    let quad = quads.quads[i as usize];
+                && around.iter().zip(&shapes).all(|(&i, now)| {
                     let floor = reach[i as usize] * reach[i as usize];
-                    keeps(&before[i as usize], &shape(&quads.positions, quad, &normals, surface, &mut centre_leaf))
-                        && probes(&quads.positions, quad)
+                    keeps(&before[i as usize], now)
+                        && probes(&quads.positions, quads.quads[i as usize])
                             .iter()
                             .zip(quad_leaf[i as usize].iter_mut())
                             .all(|(&x, leaf)| surface.tree.distance_squared_beyond(x, floor, leaf).is_none())
@@ -239,16 +228,7 @@ mod tests {
 
     /// Mean |corner angle − 90°| in degrees.
     fn angle_deviation(m: &QuadMesh) -> f64 {
-        let p = &m.positions;
-        let corners = m.quads.iter().flat_map(|q| {
-            (0..4).map(move |k| {
-                let (a, b, c) = (p[q[(k + 3) % 4] as usize], p[q[k] as usize], p[q[(k + 1) % 4] as usize]);
-                let (u, v) = (sub(a, b), sub(c, b));
-                ((dot(u, v) / (norm(u) * norm(v))).acos().to_degrees() - 90.0).abs()
-            })
-        });
-        let all: Vec<f64> = corners.collect();
-        all.iter().sum::<f64>() / all.len() as f64
+        m.quads.iter().map(|&q| skew(&m.positions, q)).sum::<f64>() / (4 * m.quads.len()) as f64
     }
 
     #[test]
