@@ -1,6 +1,10 @@
 //! Relaxation of an extracted quad mesh on the surface: each free vertex moves toward the
-//! mean of its edge neighbours within the surface's tangent plane and is put back on the
-//! surface at the nearest point, a few rounds.
+//! mean of its edge neighbours, or toward where its quads would be parallelograms, within the
+//! surface's tangent plane, and is put back on the surface at the nearest point, a few rounds.
+//! Of the moves tried, the one that leaves the fewest quads folded and then the least skew is
+//! kept; next to a folded quad, whole steps are tried as well as half ones, and a move that
+//! unfolds quads may leave a neighbour not convex (never folded) when the quads around come
+//! out sounder on the whole ([`badness`]).
 //!
 //! Why: the grid of Section 4 is straight in each chart, but the charts meet with kinks
 //! where a layout edge is not tagged (its pieces are straight in both charts, not across
@@ -98,6 +102,11 @@ fn keeps(before: &QuadState, now: &QuadState) -> bool {
     (now.convex || !before.convex) && (!now.flipped || before.flipped)
 }
 
+/// How far quads are from sound: a folded quad counts twice, one that is not convex once.
+fn badness(shapes: &[QuadState]) -> usize {
+    shapes.iter().map(|s| 2 * usize::from(s.flipped) + usize::from(!s.convex)).sum()
+}
+
 /// Relaxes the vertices of `quads` not `pinned` on `surface`, [`ROUNDS`] rounds. Returns the
 /// number of vertices that moved.
 pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool]) -> usize {
@@ -156,42 +165,76 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool]) -> usize 
                 continue;
             }
             let p = quads.positions[v];
+            let around = &incident[v];
             let k = neighbours[v].len() as f64;
             let mean: Vec3 = std::array::from_fn(|i| neighbours[v].iter().map(|&w| quads.positions[w as usize][i]).sum::<f64>() / k);
-            let d = sub(mean, p);
             let nv = normals[v];
-            let along = dot(d, nv);
-            let step: Vec3 = std::array::from_fn(|i| DAMPING * (d[i] - along * nv[i]));
-            let target: Vec3 = std::array::from_fn(|i| p[i] + step[i]);
-            // A nearest point far from the step's end is another sheet of the surface.
-            let Some((q, nq)) = surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= norm(step)) else {
-                continue;
+            // Where the move goes, within the tangent plane.
+            let toward = |goal: Vec3, share: f64| -> Vec3 {
+                let d = sub(goal, p);
+                let along = dot(d, nv);
+                std::array::from_fn(|i| p[i] + share * (d[i] - along * nv[i]))
             };
-            let around = &incident[v];
             let skew_around = |p: &[Vec3]| around.iter().map(|&i| skew(p, quads.quads[i as usize])).sum::<f64>();
             let mut shapes_around =
                 |p: &[Vec3], normals: &[Vec3]| -> Vec<QuadState> { around.iter().map(|&i| shape(p, quads.quads[i as usize], normals, surface, &mut centre_leaf)).collect() };
             let folded = |shapes: &[QuadState]| shapes.iter().filter(|s| s.flipped).count();
-            let (skew_before, folded_before) = (skew_around(&quads.positions), folded(&shapes_around(&quads.positions, &normals)));
-            let old_normal = normals[v];
-            quads.positions[v] = q;
-            normals[v] = nq;
-            let shapes = shapes_around(&quads.positions, &normals);
-            let better = skew_around(&quads.positions) < skew_before || folded(&shapes) < folded_before;
-            let sound = better
-                && around.iter().zip(&shapes).all(|(&i, now)| {
-                    let floor = reach[i as usize] * reach[i as usize];
-                    keeps(&before[i as usize], now)
-                        && probes(&quads.positions, quads.quads[i as usize])
-                            .iter()
-                            .zip(quad_leaf[i as usize].iter_mut())
-                            .all(|(&x, leaf)| surface.tree.distance_squared_beyond(x, floor, leaf).is_none())
-                });
-            if sound {
-                moved[v] = true;
-            } else {
+            let shapes_before = shapes_around(&quads.positions, &normals);
+            let (skew_before, folded_before) = (skew_around(&quads.positions), folded(&shapes_before));
+            // Where each quad would be a parallelogram: the mean of its neighbours straightens
+            // grid lines but pulls a vertex off a border of the grid (and may lie inside a fold).
+            let parallelogram: Vec3 = std::array::from_fn(|i| {
+                around
+                    .iter()
+                    .map(|&q| {
+                        let q = quads.quads[q as usize];
+                        let at = q.iter().position(|&x| x as usize == v).unwrap_or(0);
+                        let x = |j: usize| quads.positions[q[(at + j) % 4] as usize][i];
+                        x(1) + x(3) - x(2)
+                    })
+                    .sum::<f64>()
+                    / around.len() as f64
+            });
+            let mut targets = vec![toward(mean, DAMPING), toward(parallelogram, DAMPING)];
+            if folded_before > 0 {
+                // Next to a fold, half a step may not get out of it.
+                targets.extend([toward(mean, 1.0), toward(parallelogram, 1.0)]);
+            }
+            // The sound move that leaves the fewest folded quads, then the least skew.
+            let mut best: Option<((usize, f64), Vec3, Vec3)> = None;
+            for target in targets {
+                // A nearest point far from the step's end is another sheet of the surface.
+                let step = norm(sub(target, p));
+                let Some((q, nq)) = surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= step) else {
+                    continue;
+                };
+                let old_normal = normals[v];
+                quads.positions[v] = q;
+                normals[v] = nq;
+                let shapes = shapes_around(&quads.positions, &normals);
+                let score = (folded(&shapes), skew_around(&quads.positions));
+                let unfolds = score.0 < folded_before && badness(&shapes) < badness(&shapes_before);
+                let better = unfolds || (score.0 == folded_before && score.1 < skew_before);
+                let sound = better
+                    && best.is_none_or(|b| score < b.0)
+                    && around.iter().zip(&shapes).all(|(&i, now)| {
+                        let floor = reach[i as usize] * reach[i as usize];
+                        (keeps(&before[i as usize], now) || (unfolds && !now.flipped))
+                            && probes(&quads.positions, quads.quads[i as usize])
+                                .iter()
+                                .zip(quad_leaf[i as usize].iter_mut())
+                                .all(|(&x, leaf)| surface.tree.distance_squared_beyond(x, floor, leaf).is_none())
+                    });
+                if sound {
+                    best = Some((score, q, nq));
+                }
                 quads.positions[v] = p;
                 normals[v] = old_normal;
+            }
+            if let Some((_, q, nq)) = best {
+                quads.positions[v] = q;
+                normals[v] = nq;
+                moved[v] = true;
             }
         }
     }
@@ -278,5 +321,22 @@ mod tests {
         relax(&mut m, &plane(), &pinned);
         assert_eq!(folded(&m), 0);
         assert!(norm(sub(m.positions[v], [0.5, 0.5, 0.0])) < 0.01, "{:?}", m.positions[v]);
+    }
+
+    #[test]
+    fn a_free_border_vertex_folded_inwards_goes_back_to_where_its_quads_are_parallelograms() {
+        // On the border, the vertex has three neighbours, whose mean lies inside the patch: the
+        // parallelograms of its two quads put it back on the border.
+        let (mut m, mut pinned) = grid(4, |_, _| [0.0; 2]);
+        let v = 2;
+        pinned.iter_mut().for_each(|p| *p = true);
+        pinned[v] = false;
+        m.positions[v] = [0.5, 0.55, 0.0];
+        let normals = vec![[0.0, 0.0, 1.0]; m.positions.len()];
+        let folded = |m: &QuadMesh| m.quads.iter().filter(|&&q| shape(&m.positions, q, &normals, &plane(), &mut 0).flipped).count();
+        assert_eq!(folded(&m), 2);
+        relax(&mut m, &plane(), &pinned);
+        assert_eq!(folded(&m), 0);
+        assert!(norm(sub(m.positions[v], [0.5, 0.0, 0.0])) < 0.02, "{:?}", m.positions[v]);
     }
 }
