@@ -12,12 +12,13 @@
 //! corners a user sees; the surface does not need them. Vertices on tagged curves (the edge
 //! loops the user asked for, the boundary, sharp features) stay where they are, so every
 //! promise of the layout is kept, and so do vertices on creases of the quads; a move that
-//! would fold a quad or turn one of its corners inside out is taken back.
+//! would fold a quad is taken back, and so is one that turns a corner inside out unless it
+//! unfolds quads.
 
 use super::closest::TriangleTree;
 use super::quality::{corner_angle_deviations, quad_normal};
 use super::QuadMesh;
-use crate::geom::{cross, dot, norm, sub, unit, Vec3};
+use crate::geom::{add, cross, dot, norm, scale, sub, unit, Vec3};
 
 /// Rounds of relaxation: enough to straighten grid lines across a kink a few quads wide,
 /// few enough not to drift over the surface.
@@ -25,7 +26,8 @@ pub const ROUNDS: usize = 10;
 /// Quads meeting at a vertex at more than this angle (degrees) make it a crease vertex, which
 /// stays: the default sharp-feature angle of the automatic layout.
 const CREASE: f64 = crate::field::DEFAULT_FEATURE_ANGLE;
-/// The share of the way to its neighbours' mean a vertex moves in one round.
+/// The share of the way to its target (its neighbours' mean, or where its quads would be
+/// parallelograms) a vertex moves in one round.
 const DAMPING: f64 = 0.5;
 
 /// The surface the quads are relaxed on: its triangles and a tree over them.
@@ -69,7 +71,7 @@ fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mu
         let (a, b, d) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
         dot(cross(sub(d, b), sub(a, b)), normals[q[k] as usize]) > 0.0
     });
-    let centre: Vec3 = std::array::from_fn(|i| c.iter().map(|x| x[i]).sum::<f64>() / 4.0);
+    let centre = scale(0.25, c.iter().fold([0.0; 3], |s, &x| add(s, x)));
     let normal = surface.project(centre, leaf).map_or([0.0; 3], |(_, n)| n);
     let flipped = dot(quad_normal(&c), normal) <= 0.0;
     QuadState { convex, flipped }
@@ -79,7 +81,7 @@ fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mu
 /// its edge midpoints.
 fn probes(p: &[Vec3], q: [u32; 4]) -> [Vec3; 5] {
     let c = q.map(|v| p[v as usize]);
-    let mid = |a: Vec3, b: Vec3| -> Vec3 { std::array::from_fn(|i| (a[i] + b[i]) / 2.0) };
+    let mid = |a: Vec3, b: Vec3| scale(0.5, add(a, b));
     [mid(mid(c[0], c[2]), mid(c[1], c[3])), mid(c[0], c[1]), mid(c[1], c[2]), mid(c[2], c[3]), mid(c[3], c[0])]
 }
 
@@ -154,9 +156,10 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool]) -> usize 
             far + STRAY * size(&quads.positions, q)
         })
         .collect();
-    // One vertex at a time (Gauss–Seidel), each move kept only if its quads' corners come
-    // nearer right angles or fewer of them are folded, and none of them loses its shape or
-    // strays from the surface: the relaxation never makes a quad worse than extraction did.
+    // One vertex at a time (Gauss–Seidel), each move kept only if fewer of its quads are
+    // folded, or as many and their corners come nearer right angles, and none of them folds
+    // or strays from the surface beyond what extraction left; a corner may turn inside out
+    // only in a move that unfolds quads and leaves them sounder on the whole.
     let mut moved = vec![false; n];
     let mut centre_leaf = 0;
     for _ in 0..ROUNDS {
@@ -167,13 +170,12 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool]) -> usize 
             let p = quads.positions[v];
             let around = &incident[v];
             let k = neighbours[v].len() as f64;
-            let mean: Vec3 = std::array::from_fn(|i| neighbours[v].iter().map(|&w| quads.positions[w as usize][i]).sum::<f64>() / k);
+            let mean = scale(1.0 / k, neighbours[v].iter().fold([0.0; 3], |s, &w| add(s, quads.positions[w as usize])));
             let nv = normals[v];
             // Where the move goes, within the tangent plane.
             let toward = |goal: Vec3, share: f64| -> Vec3 {
                 let d = sub(goal, p);
-                let along = dot(d, nv);
-                std::array::from_fn(|i| p[i] + share * (d[i] - along * nv[i]))
+                add(p, scale(share, sub(d, scale(dot(d, nv), nv))))
             };
             let skew_around = |p: &[Vec3]| around.iter().map(|&i| skew(p, quads.quads[i as usize])).sum::<f64>();
             let mut shapes_around =
@@ -183,26 +185,21 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool]) -> usize 
             let (skew_before, folded_before) = (skew_around(&quads.positions), folded(&shapes_before));
             // Where each quad would be a parallelogram: the mean of its neighbours straightens
             // grid lines but pulls a vertex off a border of the grid (and may lie inside a fold).
-            let parallelogram: Vec3 = std::array::from_fn(|i| {
-                around
-                    .iter()
-                    .map(|&q| {
-                        let q = quads.quads[q as usize];
-                        let at = q.iter().position(|&x| x as usize == v).unwrap_or(0);
-                        let x = |j: usize| quads.positions[q[(at + j) % 4] as usize][i];
-                        x(1) + x(3) - x(2)
-                    })
-                    .sum::<f64>()
-                    / around.len() as f64
-            });
-            let mut targets = vec![toward(mean, DAMPING), toward(parallelogram, DAMPING)];
-            if folded_before > 0 {
-                // Next to a fold, half a step may not get out of it.
-                targets.extend([toward(mean, 1.0), toward(parallelogram, 1.0)]);
-            }
+            let parallelogram = scale(
+                1.0 / around.len() as f64,
+                around.iter().fold([0.0; 3], |s, &q| {
+                    let q = quads.quads[q as usize];
+                    let at = q.iter().position(|&x| x as usize == v).unwrap_or(0);
+                    let x = |j: usize| quads.positions[q[(at + j) % 4] as usize];
+                    add(s, sub(add(x(1), x(3)), x(2)))
+                }),
+            );
+            // Next to a fold, half a step may not get out of it: whole steps are tried too.
+            let targets = [toward(mean, DAMPING), toward(parallelogram, DAMPING), toward(mean, 1.0), toward(parallelogram, 1.0)];
+            let tried = if folded_before > 0 { &targets[..] } else { &targets[..2] };
             // The sound move that leaves the fewest folded quads, then the least skew.
             let mut best: Option<((usize, f64), Vec3, Vec3)> = None;
-            for target in targets {
+            for &target in tried {
                 // A nearest point far from the step's end is another sheet of the surface.
                 let step = norm(sub(target, p));
                 let Some((q, nq)) = surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= step) else {
