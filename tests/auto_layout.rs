@@ -59,6 +59,13 @@ fn shared_meshes_get_valid_layouts_and_quads() {
             param.step().unwrap();
         }
         param.finish().unwrap();
+        // No chart collapses (eight's and nefertiti's did, to side ratios 1e9 off their
+        // curves', before chart optimization was bounded): its proportions stay near its face's.
+        for (f, face) in s.faces.iter().enumerate() {
+            let curves: [f64; 4] = std::array::from_fn(|k| face.side(k).iter().map(|d| s.curves[d.curve as usize].curve.length).sum());
+            let deviation = param.charts()[f].shape_deviation(&curves);
+            assert!(deviation < 100.0, "{name}: face {f}'s chart is {deviation:.3e} times off its curves' proportions");
+        }
         let (quads, _) = extract(s, &param, &QuadOptions::with_edge_length(h)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let q = measure(&mesh, &quads);
         table.push(format!(

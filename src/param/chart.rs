@@ -295,6 +295,19 @@ impl Chart {
         })
     }
 
+    /// How far the chart's proportions are from the face's on the surface, given the curve
+    /// lengths of its four sides: the largest factor by which the ratio of two of its side
+    /// lengths differs from the ratio of those sides' curve lengths (1 when proportional;
+    /// infinite for a side of length zero).
+    pub fn shape_deviation(&self, curve_lengths: &[f64; 4]) -> f64 {
+        let k = self.corners();
+        let side: [f64; 4] = std::array::from_fn(|i| norm2(sub2(k[(i + 1) % 4], k[i])));
+        let ratio: [f64; 4] = std::array::from_fn(|i| side[i] / curve_lengths[i]);
+        let (low, high) = ratio.iter().fold((f64::INFINITY, 0.0f64), |(l, h), &r| (l.min(r), h.max(r)));
+        let deviation = high / low;
+        if deviation.is_nan() { f64::INFINITY } else { deviation }
+    }
+
     /// The chart's signed area (shoelace), positive for a counter-clockwise chart.
     pub fn area(&self) -> f64 {
         let k = self.corners();
@@ -1228,6 +1241,17 @@ mod tests {
         assert!((cross2(col(0), col(1)) - 2.0 * area).abs() < 1e-14);
         assert_eq!(rest_frame(p0, p0, p2).1, 0.0);
         assert_eq!(rest_frame(p0, p1, [3.0, 3.0, 1.0]).1, 0.0); // collinear
+    }
+
+    #[test]
+    fn shape_deviation_compares_side_ratios_with_the_curves() {
+        // A 2 × 1 rectangle on curves 2, 1, 2, 1 long is proportional; on 1, 1, 1, 1 it is
+        // twice too wide; collapsed, infinitely off.
+        let r = Chart::rect(2.0, 1.0);
+        assert!((r.shape_deviation(&[2.0, 1.0, 2.0, 1.0]) - 1.0).abs() < 1e-12);
+        assert!((r.shape_deviation(&[1.0; 4]) - 2.0).abs() < 1e-12);
+        assert!((Chart::rect(8.0, 1.0).shape_deviation(&[1.0, 2.0, 1.0, 2.0]) - 16.0).abs() < 1e-12);
+        assert_eq!(Chart::rect(0.0, 1.0).shape_deviation(&[1.0; 4]), f64::INFINITY);
     }
 
     #[test]

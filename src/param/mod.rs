@@ -192,7 +192,19 @@ struct FaceDomain {
     kind: ChartKind,
     /// (node, side s, τ): the node sits at c_s + τ (c_{s+1} − c_s); corners have τ = 0.
     nodes: Vec<(u32, usize, f64)>,
+    /// Curve length on the surface of each of the four sides.
+    side_lengths: [f64; 4],
 }
+
+/// Chart optimization may leave a chart's proportions at most this factor away from its
+/// face's curves' ([`Chart::shape_deviation`]), or from the start's where that was further.
+/// The bilinear model of Section 3.1 holds the parameterization fixed in each chart's (s, t)
+/// coordinates; where a face's map is sheared (its s and t gradients nearly parallel, as on
+/// a face that holds much curvature), the isometry energy is lowest with one side shrunk to
+/// nothing, and the next solve collapses the face into a line: quads of zero width, the
+/// surface there missed (eight and nefertiti's automatic layouts each had a chart collapse
+/// to a side ratio of 1e9). The sound charts of the shared meshes' layouts stay within 10.
+const SHAPE_BOUND: f64 = 16.0;
 
 /// The state of a parameterization: refined mesh, charts, factorizations, history.
 pub struct ParamSession {
@@ -223,6 +235,13 @@ pub struct ParamSession {
     chart_seconds: f64,
 }
 
+/// The chart `share` of the way from `a` to `b` in the free variables of `kind`.
+fn chart_between(a: &Chart, b: &Chart, kind: ChartKind, share: f64) -> Chart {
+    let (x, y) = (a.with_kind(kind).free_vars(), b.with_kind(kind).free_vars());
+    let z: Vec<f64> = x.iter().zip(&y).map(|(p, q)| p + share * (q - p)).collect();
+    b.with_kind(kind).with_free_vars(&z)
+}
+
 fn chart_kind(c: ChartType) -> ChartKind {
     match c {
         ChartType::Quad => ChartKind::Quad,
@@ -247,17 +266,20 @@ impl ParamSession {
         let mut side_lengths = Vec::new();
         for f in &layout.faces {
             let mut nodes = Vec::with_capacity(f.nodes.len());
+            let mut face_sides = [0.0; 4];
             for s in 0..4 {
                 let pieces = f.side(s);
                 let total: f64 = pieces.iter().map(|d| curve_len[d.curve as usize]).sum();
                 side_lengths.push(total);
+                face_sides[s] = total;
                 let mut along = 0.0;
                 for (k, d) in pieces.iter().enumerate() {
                     nodes.push((f.nodes[f.corners[s] + k], s, if total > 0.0 { along / total } else { 0.0 }));
                     along += curve_len[d.curve as usize];
                 }
             }
-            domains.push(FaceDomain { kind: chart_kind(f.chart_with_default(options.default_chart)), nodes });
+            let kind = chart_kind(f.chart_with_default(options.default_chart));
+            domains.push(FaceDomain { kind, nodes, side_lengths: face_sides });
         }
         // One common side for unit charts, so chart types compare by shape, not by units.
         let side = side_lengths.iter().sum::<f64>() / side_lengths.len().max(1) as f64;
@@ -401,6 +423,7 @@ impl ParamSession {
                 optimize(&chart.with_kind(kind), &tris[f], &OptimizeOptions::default()).0
             })
             .collect();
+        let fitted = self.within_shape_bound(&start, &fitted);
         self.chart_seconds += now() - t_charts;
         // The paper's step is `fitted`; Anderson mixing accelerates it (see `anderson`).
         let kinds: Vec<ChartKind> = self.domains.iter().map(|d| d.kind).collect();
@@ -428,6 +451,7 @@ impl ParamSession {
         // Anderson steps need not lower the distortion every time; only a blow-up (or an
         // invalid chart) sends us back to the plain step.
         let previous = self.history.last().map_or(f64::INFINITY, |h| h.distortion.mean);
+        let accelerated = self.within_shape_bound(&start, &accelerated);
         self.charts = self.between(&start, &accelerated, self.step_share);
         let valid = self.charts.iter().all(|c| c.is_convex() && c.x[0] > 0.0);
         let accepted = if valid { self.solve(None).ok() } else { None }
@@ -460,14 +484,32 @@ impl ParamSession {
         if share == 1.0 {
             return end.to_vec();
         }
+        start.iter().zip(end).zip(&self.domains).map(|((a, b), dom)| chart_between(a, b, dom.kind, share)).collect()
+    }
+
+    /// Each chart of `end`, or where it leaves [`SHAPE_BOUND`], the furthest point towards it
+    /// from `start` that does not (found by bisection: the bound is a test, not a formula).
+    fn within_shape_bound(&self, start: &[Chart], end: &[Chart]) -> Vec<Chart> {
         start
             .iter()
             .zip(end)
             .zip(&self.domains)
             .map(|((a, b), dom)| {
-                let (x, y) = (a.with_kind(dom.kind).free_vars(), b.with_kind(dom.kind).free_vars());
-                let z: Vec<f64> = x.iter().zip(&y).map(|(p, q)| p + share * (q - p)).collect();
-                b.with_kind(dom.kind).with_free_vars(&z)
+                let sides = &dom.side_lengths;
+                let limit = SHAPE_BOUND.max(a.with_kind(dom.kind).shape_deviation(sides));
+                if b.shape_deviation(sides) <= limit {
+                    return *b;
+                }
+                let (mut inside, mut outside) = (0.0, 1.0);
+                for _ in 0..30 {
+                    let mid = 0.5 * (inside + outside);
+                    if chart_between(a, b, dom.kind, mid).shape_deviation(sides) <= limit {
+                        inside = mid;
+                    } else {
+                        outside = mid;
+                    }
+                }
+                chart_between(a, b, dom.kind, inside)
             })
             .collect()
     }
