@@ -171,3 +171,18 @@ fn a_torus_gets_a_layout_without_singularities() {
         assert!(d == 4 || (d == 3 && t_nodes.contains(&(n as u32))), "node {n} has {d} curves");
     }
 }
+
+/// `--patches` below what the singularities make cancels pairs farther apart: bunny_1k8's 66
+/// faces become about the 30 asked for, and the layout stays valid.
+#[test]
+fn fewer_patches_asked_give_fewer_faces() {
+    let mesh = load_mesh("bunny_1k8.obj");
+    let default = propose_layout(&mesh, &LayoutOptions::default()).unwrap().surface.faces.len();
+    let mut options = LayoutOptions::default();
+    options.patches = Some(30);
+    let p = propose_layout(&mesh, &options).unwrap();
+    let faces = p.surface.faces.len();
+    assert!(default > 45 && (20..=40).contains(&faces), "{default} faces by default, {faces} for --patches 30");
+    assert_eq!(parse_layout(&write_layout(&p.layout)).unwrap(), p.layout);
+    assert!(ParamSession::new(&mesh, &p.surface, &ParamOptions::default()).is_ok());
+}

@@ -92,8 +92,12 @@ impl fmt::Display for ProposeError {
 
 impl std::error::Error for ProposeError {}
 
-/// Opposite singularities closer than this fraction of the diagonal cancel.
+/// Opposite singularities closer than this fraction of the diagonal cancel...
 const CANCEL_DISTANCE: f64 = 0.03;
+/// ... or, where `--patches` asks for fewer faces than that makes (more than this many times
+/// fewer), twice as far apart, up to this many times.
+const PATCHES_SLACK: f64 = 1.25;
+const FEWER_PATCHES_TRIES: usize = 4;
 /// Traces longer than this many diagonals stop (and are dropped as dangling).
 const MAX_TRACE_LENGTH: f64 = 3.0;
 /// A boundary vertex whose interior angle differs from π by more than this is a corner.
@@ -122,20 +126,39 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
     let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
     // From the singularities first; should that fail, from crosses of traces alone (the
     // singularities are then where the traces meet).
-    let first = attempt(mesh, &field, options, true);
-    let (layout, surface) = match first {
+    let first = attempt(mesh, &field, options, Some(CANCEL_DISTANCE));
+    let (mut layout, mut surface) = match first {
         Ok(done) => done,
-        Err(why) => attempt(mesh, &field, options, false).map_err(|_| ProposeError::NoValidLayout(why))?,
+        Err(why) => attempt(mesh, &field, options, None).map_err(|_| ProposeError::NoValidLayout(why))?,
     };
+    // Fewer faces asked for than the singularities make: cancel pairs farther apart, keeping
+    // the layout whose face count is nearest (by ratio) to the one asked.
+    if let Some(target) = options.patches {
+        let off = |s: &SurfaceLayout| (s.faces.len() as f64 / target as f64).ln().abs();
+        let mut distance = CANCEL_DISTANCE;
+        for _ in 0..FEWER_PATCHES_TRIES {
+            if surface.faces.len() as f64 <= PATCHES_SLACK * target as f64 {
+                break;
+            }
+            distance *= 2.0;
+            let Ok((l, s)) = attempt(mesh, &field, options, Some(distance)) else { continue };
+            if off(&s) < off(&surface) {
+                (layout, surface) = (l, s);
+            }
+        }
+    }
     Ok(Proposal { layout, field, surface })
 }
 
 /// One construction of the layout; the reason it failed otherwise.
+///
+/// `cancel_distance`: start from the singularities, with opposite ones closer than this
+/// fraction of the diagonal cancelled; `None`: from crosses of traces alone.
 fn attempt(
     mesh: &Mesh,
     field: &CrossField,
     options: &LayoutOptions,
-    from_singularities: bool,
+    cancel_distance: Option<f64>,
 ) -> Result<(Layout, SurfaceLayout), String> {
     let diag = diagonal(mesh);
     let mut g = CurveGraph::new(mesh);
@@ -148,8 +171,8 @@ fn attempt(
     boundary_nodes(mesh, &mut g);
 
     let mut launches: Vec<Launch> = Vec::new();
-    if from_singularities {
-        for (v, dirs) in singular_vertices(mesh, field, &g, diag) {
+    if let Some(distance) = cancel_distance {
+        for (v, dirs) in singular_vertices(mesh, field, &g, distance * diag) {
             // Not pinned: a singularity left with two of its separatrices (the others
             // removed by repairs) is no corner but a bend, 90° on one side and 270° on the
             // other, where a chart corner folds the quads; the two curves join through it.
@@ -397,8 +420,9 @@ fn boundary_nodes(mesh: &Mesh, g: &mut CurveGraph) {
 }
 
 /// The singular vertices the layout starts from and the directions of their separatrices:
-/// singularities away from feature lines and the boundary, after close opposite pairs cancel.
-fn singular_vertices(mesh: &Mesh, field: &CrossField, g: &CurveGraph, diag: f64) -> Vec<(u32, Vec<[f64; 3]>)> {
+/// singularities away from feature lines and the boundary, after opposite pairs closer than
+/// `cancel` cancel.
+fn singular_vertices(mesh: &Mesh, field: &CrossField, g: &CurveGraph, cancel: f64) -> Vec<(u32, Vec<[f64; 3]>)> {
     let centroid = |f: u32| {
         let p = mesh.triangles()[f as usize].map(|v| mesh.position(v));
         std::array::from_fn::<f64, 3, _>(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0)
@@ -414,7 +438,7 @@ fn singular_vertices(mesh: &Mesh, field: &CrossField, g: &CurveGraph, diag: f64)
         for j in i + 1..sing.len() {
             if sing[i].quarter_turns == -sing[j].quarter_turns {
                 let d = norm(sub(centroid(sing[i].triangle), centroid(sing[j].triangle)));
-                if d < CANCEL_DISTANCE * diag {
+                if d < cancel {
                     pairs.push((d, i, j));
                 }
             }
