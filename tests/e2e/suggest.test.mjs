@@ -58,6 +58,12 @@ test('Suggest layout places a valid layout as one edit; Ctrl+Z restores the prev
   await waitFor(page, (q) => !q.editor.checking && q.editor.summary);
   assert.deepEqual(await page.evaluate(() => window.quadlay.editor.doc), s.doc);
 
+  // Fewer patches than the field allows: the proposal says how far it got.
+  const few = await page.evaluate(() => window.quadlay.suggest({ patches: 1 }));
+  assert.ok(few.faces > 1);
+  assert.match(await page.locator('#suggest-message').textContent(), new RegExp(`Suggested ${few.faces} faces \\(about 1 asked: the nearest`));
+  await page.evaluate(() => window.quadlay.suggest({ patches: null }));
+
   // The proposal is an ordinary layout: it solves.
   await page.evaluate(() => window.quadlay.run());
   const result = await page.evaluate(() => window.quadlay.result);
