@@ -465,13 +465,9 @@ fn layout(args: &[String]) -> Result<(), Failure> {
         p.field.singularities.len(),
         now() - t0
     ))?;
-    // `--patches` is a wish the field's singularities and features bound: say when it is far off.
-    match a.options.patches {
-        Some(n) if !(0.8..=1.25).contains(&(s.faces.len() as f64 / n as f64)) => say(&format!(
-            "note: {} faces where --patches asked for about {n}: the nearest the cross field's singularities and the features allowed\n",
-            s.faces.len()
-        )),
-        _ => Ok(()),
+    match p.patches_note(a.options.patches) {
+        Some(note) => say(&format!("note: {note}\n")),
+        None => Ok(()),
     }
 }
 

@@ -280,8 +280,10 @@ impl Session {
         struct Suggestion {
             layout: String,
             field: FieldView,
+            note: Option<String>,
         }
-        to_js(&Suggestion { layout: write_layout(&p.layout), field: p.field.view(mesh) })
+        let note = p.patches_note(opts.patches);
+        to_js(&Suggestion { layout: write_layout(&p.layout), field: p.field.view(mesh), note })
     }
 
     /// The surface's cross field alone, for the page's field view: `options`

@@ -142,7 +142,7 @@ export class CoreClient {
   }
 
   /**
-   * Proposes a layout for the current mesh; resolves to { text, field, seconds } (protocol.js).
+   * Proposes a layout for the current mesh; resolves to { text, field, seconds, note } (protocol.js).
    * @param {{patches?: number, featureAngle?: number}} options
    */
   suggestLayout(options) {

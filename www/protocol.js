@@ -123,7 +123,8 @@ export const MSG = Object.freeze({
    * args:   { options: { patches?: number — about this many faces (absent: as the mesh gives
    *                      them), featureAngle?: number (degrees, default 35) } }
    * result: { text: string — the layout file (format v1), field: CrossField (the field it was
-   *           made from, as FIELD gives it), seconds: number (in the worker) }
+   *           made from, as FIELD gives it), seconds: number (in the worker),
+   *           note: string | null — when the faces are far from the patches asked, why }
    * On error: why no valid layout could be made, in words.
    */
   SUGGEST: 'suggest-layout',

@@ -155,11 +155,8 @@ export class Suggester {
       const ms = performance.now() - t0;
       this.quadlay.suggestion = { state: 'done', seconds: answer.seconds, faces: summary.faces, ms };
       const t = summary.t_vertices ? `, ${summary.t_vertices} T-vertices` : '';
-      // Patches is a wish the field's singularities and the features bound: say when it is far off.
-      const ratio = options.patches ? summary.faces / options.patches : 1;
-      const asked = ratio < 0.8 || ratio > 1.25
-        ? ` (about ${options.patches} asked: the nearest the cross field's singularities and the features allowed)` : '';
-      this.setMessage(`Suggested ${summary.faces} faces${asked}, ${summary.edges} edges (${summary.aligned_edges} tagged)${t} in ${(answer.seconds).toFixed(2)} s. Edit it like your own; Ctrl+Z returns the previous layout.`, 'ok');
+      const note = answer.note ? ` ${answer.note}.` : '';
+      this.setMessage(`Suggested ${summary.faces} faces, ${summary.edges} edges (${summary.aligned_edges} tagged)${t} in ${(answer.seconds).toFixed(2)} s.${note} Edit it like your own; Ctrl+Z returns the previous layout.`, 'ok');
       return summary;
     } catch (err) {
       if (err instanceof Cancelled) {

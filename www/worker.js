@@ -88,10 +88,10 @@ const handlers = {
   [MSG.SUGGEST]({ options = {} }) {
     if (!session) throw new Error('load a mesh first');
     const t0 = performance.now();
-    const { layout, field } = session.suggestLayout(options);
+    const { layout, field, note } = session.suggestLayout(options);
     const seconds = (performance.now() - t0) / 1000;
     const view = fieldView(field);
-    return { result: { text: layout, field: view, seconds }, transfer: [view.directions.buffer] };
+    return { result: { text: layout, field: view, seconds, note: note ?? null }, transfer: [view.directions.buffer] };
   },
 };
 

@@ -72,6 +72,19 @@ pub struct Proposal {
     pub surface: SurfaceLayout,
 }
 
+impl Proposal {
+    /// Where the faces are more than [`PATCHES_SLACK`] times off the `patches` asked for (a
+    /// wish that the field's singularities and the features bound), a sentence saying so.
+    pub fn patches_note(&self, patches: Option<usize>) -> Option<String> {
+        let n = patches?;
+        let faces = self.surface.faces.len();
+        let ratio = faces as f64 / n as f64;
+        (!(1.0 / PATCHES_SLACK..=PATCHES_SLACK).contains(&ratio)).then(|| {
+            format!("{faces} faces where about {n} were asked: the nearest the cross field's singularities and the features allowed")
+        })
+    }
+}
+
 /// Why no layout could be proposed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ProposeError {

@@ -263,14 +263,12 @@ impl ParamSession {
         let sides = curve_sides(layout);
         let curve_len: Vec<f64> = layout.curves.iter().map(|c| c.curve.length).collect();
         let mut domains = Vec::with_capacity(layout.faces.len());
-        let mut side_lengths = Vec::new();
         for f in &layout.faces {
             let mut nodes = Vec::with_capacity(f.nodes.len());
             let mut face_sides = [0.0; 4];
             for s in 0..4 {
                 let pieces = f.side(s);
                 let total: f64 = pieces.iter().map(|d| curve_len[d.curve as usize]).sum();
-                side_lengths.push(total);
                 face_sides[s] = total;
                 let mut along = 0.0;
                 for (k, d) in pieces.iter().enumerate() {
@@ -282,7 +280,7 @@ impl ParamSession {
             domains.push(FaceDomain { kind, nodes, side_lengths: face_sides });
         }
         // One common side for unit charts, so chart types compare by shape, not by units.
-        let side = side_lengths.iter().sum::<f64>() / side_lengths.len().max(1) as f64;
+        let side = domains.iter().flat_map(|d| d.side_lengths).sum::<f64>() / (4 * domains.len()).max(1) as f64;
         let charts = domains.iter().map(|_| Chart::unit(side)).collect();
         let rest = cut
             .triangles

@@ -61,7 +61,7 @@ test('Suggest layout places a valid layout as one edit; Ctrl+Z restores the prev
   // Fewer patches than the field allows: the proposal says how far it got.
   const few = await page.evaluate(() => window.quadlay.suggest({ patches: 1 }));
   assert.ok(few.faces > 1);
-  assert.match(await page.locator('#suggest-message').textContent(), new RegExp(`Suggested ${few.faces} faces \\(about 1 asked: the nearest`));
+  assert.match(await page.locator('#suggest-message').textContent(), new RegExp(`Suggested ${few.faces} faces.* s\\. ${few.faces} faces where about 1 were asked: the nearest.*Ctrl\\+Z`));
   await page.evaluate(() => window.quadlay.suggest({ patches: null }));
 
   // The proposal is an ordinary layout: it solves.
