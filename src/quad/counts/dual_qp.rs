@@ -119,11 +119,6 @@ impl<'a> DualQp<'a> {
         self.solve()
     }
 
-    /// Every piece's count at the current `z`.
-    pub fn counts(&self) -> Vec<f64> {
-        self.rows.iter().map(|row| dot(row, &self.z)).collect()
-    }
-
     pub fn is_fixed(&self, j: usize) -> bool {
         self.fixed[j] != Fixing::Free
     }
