@@ -36,6 +36,14 @@ export class ChartPanel {
     pane.append(this.canvas);
     document.body.append(pane);
     this.pane = pane;
+    // A CPU canvas: every slice is drawn when it runs (an accelerated one records them all
+    // and rasterizes them in one go at the next paint, seconds for a big mesh).
+    this.ctx = this.canvas.getContext('2d', { willReadFrequently: true });
+    // Its backing store is made at the first drawing, a quarter of a second in headless
+    // Chromium: made while the page is idle, not when the user first opens the panel.
+    const warm = () => this.ctx.fillRect(0, 0, 1, 1);
+    if (window.requestIdleCallback) requestIdleCallback(warm);
+    else setTimeout(warm, 0);
     this.fill = 'face';
     /** 'common': one scale for all charts; 'each': every chart fills its cell. */
     this.scaleMode = 'common';
@@ -87,9 +95,7 @@ export class ChartPanel {
   /** Draws everything again; returns a promise that settles when the last slice is drawn. */
   draw() {
     const run = ++this.drawing;
-    // A CPU canvas: every slice is drawn when it runs (an accelerated one records them all
-    // and rasterizes them in one go at the next paint, seconds for a big mesh).
-    const ctx = this.canvas.getContext('2d', { willReadFrequently: true });
+    const ctx = this.ctx;
     const { width: W, height: H } = this.canvas;
     ctx.fillStyle = '#171a20';
     ctx.fillRect(0, 0, W, H);
