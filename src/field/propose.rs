@@ -34,7 +34,7 @@ use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
 use crate::layout::{build_layout, curve, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout, MAX_WAYPOINTS};
 use crate::geom::{norm, sub, Vec3};
-use crate::mesh::geometry::corner_angles;
+use crate::mesh::geometry::corner_angle;
 use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
 use crate::quad::counts::{sample_counts, CountError};
@@ -430,17 +430,7 @@ fn grow(mesh: &Mesh, field: &CrossField, g: &mut CurveGraph, diag: f64, launches
 /// Nodes on every boundary loop: its corners, and more (evenly by length) until it has four
 /// (or as many as it has vertices).
 fn boundary_nodes(mesh: &Mesh, g: &mut CurveGraph) {
-    let angles = corner_angles(mesh);
-    let interior_angle = |v: u32| -> f64 {
-        mesh.outgoing(v)
-            .filter(|&h| mesh.face(h) != NONE)
-            .map(|h| {
-                let f = mesh.face(h);
-                let k = mesh.triangles()[f as usize].iter().position(|&x| x == v).unwrap_or(0);
-                angles[f as usize][k]
-            })
-            .sum()
-    };
+    let interior_angle = |v: u32| -> f64 { mesh.outgoing(v).filter(|&h| mesh.face(h) != NONE).map(|h| corner_angle(mesh, h)).sum() };
     for lp in topology(mesh).boundary_loops {
         let verts: Vec<u32> = lp.iter().map(|&h| mesh.to_vertex(h)).collect();
         let mut at = vec![0.0];

@@ -9,7 +9,7 @@
 use super::frames::wrap;
 use super::CrossField;
 use crate::geom::{sub, unit, Vec3};
-use crate::mesh::geometry::corner_angles;
+use crate::mesh::geometry::corner_angle;
 use crate::mesh::Mesh;
 use std::f64::consts::PI;
 
@@ -20,13 +20,9 @@ pub fn separatrix_directions(mesh: &Mesh, field: &CrossField, v: u32) -> Vec<Vec
         return Vec::new();
     }
     let hs: Vec<u32> = mesh.outgoing(v).collect();
-    let angles = corner_angles(mesh);
-    // Corner angle at v of the face of each outgoing halfedge (between h and the next ring edge).
-    let corner = |h: u32| {
-        let f = mesh.face(h);
-        let k = mesh.triangles()[f as usize].iter().position(|&x| x == v).unwrap_or(0);
-        angles[f as usize][k]
-    };
+    // Corner angle at v of the face of each outgoing halfedge (between h and the next ring
+    // edge); of v's own triangles only: this runs once per singularity.
+    let corner = |h: u32| corner_angle(mesh, h);
     let total: f64 = hs.iter().map(|&h| corner(h)).sum();
     let p = mesh.position(v);
     let m = hs.len();
