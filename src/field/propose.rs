@@ -367,17 +367,24 @@ fn missed_sides(g: &CurveGraph, surface: &SurfaceLayout, curve_miss: &[f64]) -> 
     worst.sort_by(|&a, &b| curve_miss[b].total_cmp(&curve_miss[a]));
     let mut out = Vec::new();
     for c in worst.into_iter().take(MISSED_CURVES) {
-        for f in surface.faces.iter().filter(|f| f.pieces.iter().any(|d| d.curve as usize == c)) {
-            for d in &f.pieces {
-                let CurveSource::Edge(i) = surface.curves[d.curve as usize].source else { continue };
-                let Some(&s) = live.get(i) else { continue };
-                if !g.segments[s as usize].feature && !out.contains(&s) {
-                    out.push(s);
-                }
+        for k in curves_round_faces_of(surface, &[c as u32]) {
+            let CurveSource::Edge(i) = surface.curves[k as usize].source else { continue };
+            let Some(&s) = live.get(i) else { continue };
+            if !g.segments[s as usize].feature && !out.contains(&s) {
+                out.push(s);
             }
         }
     }
     out
+}
+
+/// The curves round every face that has one of `curves` on its boundary, face by face.
+fn curves_round_faces_of<'a>(surface: &'a SurfaceLayout, curves: &'a [u32]) -> impl Iterator<Item = u32> + 'a {
+    surface
+        .faces
+        .iter()
+        .filter(|f| f.pieces.iter().any(|d| curves.contains(&d.curve)))
+        .flat_map(|f| f.pieces.iter().map(|d| d.curve))
 }
 
 /// A layout's distortion after the harmonic solve and one chart optimization (near what three
@@ -650,12 +657,7 @@ fn remove_trace(g: &mut CurveGraph, surface: Option<&SurfaceLayout>, curves: &[u
     let mut s = shortest(g, &mut curves.iter().copied());
     if s.is_none() {
         if let Some(surface) = surface {
-            let mut around = surface
-                .faces
-                .iter()
-                .filter(|f| f.pieces.iter().any(|d| curves.contains(&d.curve)))
-                .flat_map(|f| f.pieces.iter().map(|d| d.curve));
-            s = shortest(g, &mut around);
+            s = shortest(g, &mut curves_round_faces_of(surface, curves));
         }
     }
     match s {
@@ -826,20 +828,21 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
         .map(|f| f.pieces.iter().map(|d| surface.curves[d.curve as usize].curve.length / h).collect())
         .collect();
     let problem = IncidenceCounts::new(&surface, &desires);
-    let counts = sample_counts(&problem.desired, &problem.equations);
-    if let Err(e) = counts {
-        let curve = |i: u32| problem.curve.get(i as usize).copied().unwrap_or(NONE);
-        let e = match e {
-            CountError::Infeasible { pieces_at_one } => {
-                CountError::Infeasible { pieces_at_one: pieces_at_one.into_iter().map(curve).collect() }
-            }
-            CountError::Fractional { piece } => CountError::Fractional { piece: curve(piece) },
-            other => other,
-        };
-        return Err(Rejected::Counts(e, Box::new(surface)));
-    }
+    let n = match sample_counts(&problem.desired, &problem.equations) {
+        Ok(n) => n,
+        Err(e) => {
+            let curve = |i: u32| problem.curve.get(i as usize).copied().unwrap_or(NONE);
+            let e = match e {
+                CountError::Infeasible { pieces_at_one } => {
+                    CountError::Infeasible { pieces_at_one: pieces_at_one.into_iter().map(curve).collect() }
+                }
+                CountError::Fractional { piece } => CountError::Fractional { piece: curve(piece) },
+                other => other,
+            };
+            return Err(Rejected::Counts(e, Box::new(surface)));
+        }
+    };
     let wished: Vec<f64> = problem.desired.iter().map(|d| d.max(1.0)).collect();
-    let n = counts.unwrap_or_default();
     let count_error = n.iter().zip(&wished).map(|(&n, d)| (n as f64 - d).abs()).sum::<f64>() / wished.iter().sum::<f64>();
     let mut curve_miss = vec![0.0f64; surface.curves.len()];
     for ((&n, d), &c) in n.iter().zip(&wished).zip(&problem.curve) {

@@ -59,7 +59,7 @@ fn continuous<'a>(basis: &'a Lattice, desired: &[f64]) -> Result<DualQp<'a>, Cou
     // Positive definite: N has full column rank (its rows of the free pieces are the identity,
     // or the integer basis of `kernel`).
     let not_definite = || CountError::Solver("the sample counts' least squares is not positive definite".into());
-    let mut qp = DualQp::new(&basis.rows, basis.dim, &vec![1.0; desired.len()], desired).ok_or_else(not_definite)?;
+    let mut qp = DualQp::new(&basis.rows, basis.dim, desired).ok_or_else(not_definite)?;
     qp.solve().map_err(|c: Conflict| CountError::Infeasible { pieces_at_one: c.pieces })?;
     Ok(qp)
 }

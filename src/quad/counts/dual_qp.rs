@@ -3,7 +3,7 @@
 //! solving strictly convex quadratic programs", Math. Programming 27, 1983), the method of
 //! R's `quadprog`:
 //!
-//! minimize ½ Σᵢ wᵢ (aᵢ·z − dᵢ)²  subject to  aᵢ·z ≥ 1 for every row i, z_j = v_j when fixed.
+//! minimize ½ Σᵢ (aᵢ·z − dᵢ)²  subject to  aᵢ·z ≥ 1 for every row i, z_j = v_j when fixed.
 //!
 //! Why the dual method: it starts from the unconstrained minimum, needs no feasible point,
 //! and proves infeasibility by itself (a violated constraint that no step can satisfy). Above
@@ -68,17 +68,16 @@ pub(super) struct Conflict {
 }
 
 impl<'a> DualQp<'a> {
-    /// The unconstrained minimum of `½ Σᵢ wᵢ (rows[i]·z − d[i])²` over `z ∈ ℝᵏ`. `None` when
-    /// that Hessian is not positive definite (it is when the weights are positive and the
-    /// rows span `ℝᵏ`).
-    pub fn new(rows: &'a [Row], k: usize, weight: &[f64], desired: &[f64]) -> Option<DualQp<'a>> {
+    /// The unconstrained minimum of `½ Σᵢ (rows[i]·z − d[i])²` over `z ∈ ℝᵏ`. `None` when
+    /// that Hessian is not positive definite (it is when the rows span `ℝᵏ`).
+    pub fn new(rows: &'a [Row], k: usize, desired: &[f64]) -> Option<DualQp<'a>> {
         let mut h = vec![0.0; k * k];
         let mut g = vec![0.0; k];
-        for ((row, &w), &d) in rows.iter().zip(weight).zip(desired) {
+        for (row, &d) in rows.iter().zip(desired) {
             for &(a, x) in row {
-                g[a] += w * d * x;
+                g[a] += d * x;
                 for &(b, y) in row {
-                    h[a * k + b] += w * x * y;
+                    h[a * k + b] += x * y;
                 }
             }
         }
@@ -338,7 +337,7 @@ mod tests {
     fn bounds_hold_and_the_rest_moves_to_the_optimum() {
         // Pieces z0, z1 and z0 − z1, desired 5, 1 and −3: the last is held at one.
         let rows: Vec<Row> = vec![vec![(0, 1.0)], vec![(1, 1.0)], vec![(0, 1.0), (1, -1.0)]];
-        let mut qp = DualQp::new(&rows, 2, &[1.0; 3], &[5.0, 1.0, -3.0]).unwrap();
+        let mut qp = DualQp::new(&rows, 2, &[5.0, 1.0, -3.0]).unwrap();
         qp.solve().unwrap();
         // On z0 − z1 = 1: minimize (z0 − 5)² + (z0 − 2)²: z0 = 3.5, z1 = 2.5.
         assert!((qp.z[0] - 3.5).abs() < 1e-12 && (qp.z[1] - 2.5).abs() < 1e-12, "{:?}", qp.z);
@@ -352,7 +351,7 @@ mod tests {
     fn a_multiplier_reaching_zero_frees_the_bound() {
         // Pieces z0 (wants 0), z1 − z0 (wants 1), z1 (wants 3): the optimum holds z0 at one.
         let rows: Vec<Row> = vec![vec![(0, 1.0)], vec![(0, -1.0), (1, 1.0)], vec![(1, 1.0)]];
-        let mut qp = DualQp::new(&rows, 2, &[1.0; 3], &[0.0, 1.0, 3.0]).unwrap();
+        let mut qp = DualQp::new(&rows, 2, &[0.0, 1.0, 3.0]).unwrap();
         qp.solve().unwrap();
         assert_eq!(qp.pieces_at_one(), vec![0]);
         assert!((qp.z[0] - 1.0).abs() < 1e-12 && (qp.z[1] - 2.5).abs() < 1e-12, "{:?}", qp.z);
@@ -369,7 +368,7 @@ mod tests {
     fn conflicting_bounds_are_infeasible() {
         // Piece 0 is z0, piece 1 is −z0: both ≥ 1 cannot hold.
         let rows: Vec<Row> = vec![vec![(0, 1.0)], vec![(0, -1.0)]];
-        let mut qp = DualQp::new(&rows, 1, &[1.0; 2], &[3.0, 3.0]).unwrap();
+        let mut qp = DualQp::new(&rows, 1, &[3.0, 3.0]).unwrap();
         assert_eq!(qp.solve().unwrap_err().pieces, vec![0, 1]);
     }
 }
