@@ -383,8 +383,8 @@ fn counts_at(layout: &SurfaceLayout, param: &ParamSession, h: f64) -> Result<Cou
 /// on curves and nodes have one vertex each, shared by both faces: the mesh is welded by
 /// construction. Last, the vertices off tagged curves are relaxed on the surface ([`relax`]):
 /// at --quads 4000 on the automatic layouts of the seven shared meshes the mean angle
-/// deviation falls by 0.7–14.6° (bunny_28k 13.7 → 7.8°) and the folded quads from 50 to 16
-/// in all; the Hausdorff distances stay within 0.2 % (fandisk 0.35 → 0.37 %, eight 5.10 →
+/// deviation falls by 0.8–15.3° (bunny_28k 13.7 → 7.4°) and the folded quads from 50 to 16
+/// in all; the Hausdorff distances stay within 0.25 % (fandisk 0.35 → 0.39 %, eight 5.10 →
 /// 5.31 %).
 ///
 /// # Errors

@@ -10,8 +10,9 @@
 //! The steps down the skew are what squares the corners: the mean and the parallelograms even
 //! out grid lines, and most of their moves (on bunny_1k8, 4 in 5) raised the skew and were
 //! refused. At --quads 4000 on the seven shared meshes' automatic layouts the mean angle
-//! deviation falls from 3.5–31.9° unrelaxed to 2.8–17.3° (bunny_28k 13.7 → 7.8°, bunny_1k8
-//! 17.1 → 10.2°), where the mean and the parallelograms alone reached 3.1–28.0° (11.0°, 14.4°).
+//! deviation falls from 3.5–31.9° unrelaxed to 2.7–16.6° (bunny_28k 13.7 → 7.4°, bunny_1k8
+//! 17.1 → 9.6°), where ten rounds of the mean and the parallelograms alone reached 3.1–28.0°
+//! (11.0°, 14.4°).
 //!
 //! Why: the grid of Section 4 is straight in each chart, but the charts meet with kinks
 //! where a layout edge is not tagged (its pieces are straight in both charts, not across
@@ -28,8 +29,10 @@ use super::QuadMesh;
 use crate::geom::{add, cross, dot, norm, scale, sub, unit, Vec3};
 
 /// Rounds of relaxation: enough to straighten grid lines across a kink a few quads wide,
-/// few enough not to drift over the surface.
-pub const ROUNDS: usize = 10;
+/// few enough not to drift over the surface. The steps down the skew keep finding a little
+/// after ten rounds (bunny_28k at --quads 4000: 7.8° after 10, 7.4° after 15, 7.2° after 20),
+/// at about 37 ms a round there.
+pub const ROUNDS: usize = 15;
 /// Quads meeting at a vertex at more than this angle (degrees) make it a crease vertex, which
 /// stays: the default sharp-feature angle of the automatic layout.
 const CREASE: f64 = crate::field::DEFAULT_FEATURE_ANGLE;
@@ -135,6 +138,15 @@ fn keeps(before: &QuadState, now: &QuadState) -> bool {
     (now.convex || !before.convex) && (!now.flipped || before.flipped)
 }
 
+/// A vertex's move that was judged sound: its (folded quads, skew) around, where it ends on
+/// the surface and the normal there, and the shapes of its quads after it.
+struct Move {
+    score: (usize, f64),
+    at: Vec3,
+    normal: Vec3,
+    shapes: Vec<QuadState>,
+}
+
 /// How far quads are from sound: a folded quad counts twice, one that is not convex once.
 fn badness(shapes: &[QuadState]) -> usize {
     shapes.iter().map(|s| 2 * usize::from(s.flipped) + usize::from(!s.convex)).sum()
@@ -194,6 +206,8 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
     // only in a move that unfolds quads and leaves them sounder on the whole.
     let mut moved = vec![false; n];
     let mut centre_leaf = 0;
+    // The quads' shapes as they are: a quad's changes only when one of its corners moves.
+    let mut now = before.clone();
     // Moves so far; the count after each vertex's latest move, and when a vertex's latest
     // look found no move. A vertex none of whose quads changed since then would be refused
     // again (its moves and their judgement are the same): it is not looked at.
@@ -224,7 +238,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
             let mut shapes_around =
                 |p: &[Vec3], normals: &[Vec3]| -> Vec<QuadState> { around.iter().map(|&i| shape(p, quads.quads[i as usize], normals, surface, &mut centre_leaf)).collect() };
             let folded = |shapes: &[QuadState]| shapes.iter().filter(|s| s.flipped).count();
-            let shapes_before = shapes_around(&quads.positions, &normals);
+            let shapes_before: Vec<QuadState> = around.iter().map(|&i| now[i as usize]).collect();
             let (skew_before, folded_before) = (skew_around(&quads.positions), folded(&shapes_before));
             // Where each quad would be a parallelogram: the mean of its neighbours straightens
             // grid lines but pulls a vertex off a border of the grid (and may lie inside a fold).
@@ -256,21 +270,27 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                 tried.extend(DESCENT_STEPS.map(|share| add(p, scale(share * length, down))));
             }
             // The sound move that leaves the fewest folded quads, then the least skew.
-            let mut best: Option<((usize, f64), Vec3, Vec3)> = None;
-            for target in tried {
-                // A nearest point far from the step's end is another sheet of the surface.
-                let step = norm(sub(target, p));
-                let Some((q, nq)) = surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= step) else {
-                    continue;
-                };
-                // With none of its quads folded, only a move that takes the skew below the
-                // best so far can win: the quads' shapes (a projection each) are judged for
-                // those only.
-                if folded_before == 0 {
-                    let s = skew_at(q, &mut quads.positions);
-                    if s >= skew_before || best.is_some_and(|b| s >= b.0 .1) {
-                        continue;
-                    }
+            let mut best: Option<Move> = None;
+            // Each move's end on the surface (a nearest point far from the step's end is
+            // another sheet of the surface), and its skew.
+            let mut landed: Vec<(f64, Vec3, Vec3)> = tried
+                .into_iter()
+                .filter_map(|target| {
+                    let step = norm(sub(target, p));
+                    let (q, nq) = surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= step)?;
+                    Some((skew_at(q, &mut quads.positions), q, nq))
+                })
+                .collect();
+            // With none of its quads folded, the sound move of least skew wins, and only one
+            // that lowers the skew can: those are judged from the least skew up and the first
+            // sound one is taken (judging costs a projection per quad).
+            if folded_before == 0 {
+                landed.retain(|l| l.0 < skew_before);
+                landed.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
+            for (_, q, nq) in landed {
+                if folded_before == 0 && best.is_some() {
+                    break;
                 }
                 let old_normal = normals[v];
                 quads.positions[v] = q;
@@ -280,7 +300,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                 let unfolds = score.0 < folded_before && badness(&shapes) < badness(&shapes_before);
                 let better = unfolds || (score.0 == folded_before && score.1 < skew_before);
                 let sound = better
-                    && best.is_none_or(|b| score < b.0)
+                    && best.as_ref().is_none_or(|b| score < b.score)
                     && around.iter().zip(&shapes).all(|(&i, now)| {
                         let floor = reach[i as usize] * reach[i as usize];
                         (keeps(&before[i as usize], now) || (unfolds && !now.flipped))
@@ -290,14 +310,17 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                                 .all(|(&x, leaf)| surface.tree.distance_squared_beyond(x, floor, leaf).is_none())
                     });
                 if sound {
-                    best = Some((score, q, nq));
+                    best = Some(Move { score, at: q, normal: nq, shapes });
                 }
                 quads.positions[v] = p;
                 normals[v] = old_normal;
             }
-            if let Some((_, q, nq)) = best {
-                quads.positions[v] = q;
-                normals[v] = nq;
+            if let Some(Move { at, normal, shapes, .. }) = best {
+                quads.positions[v] = at;
+                normals[v] = normal;
+                for (&i, shape) in around.iter().zip(shapes) {
+                    now[i as usize] = shape;
+                }
                 moved[v] = true;
                 moves += 1;
                 moved_at[v] = moves;
