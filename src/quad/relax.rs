@@ -357,6 +357,13 @@ mod tests {
         (QuadMesh { positions, quads, vertex_node }, pinned)
     }
 
+    /// An n × n grid with every vertex pinned but `v`.
+    fn grid_free_at(n: usize, v: usize) -> (QuadMesh, Vec<bool>) {
+        let (m, _) = grid(n, |_, _| [0.0; 2]);
+        let pinned = (0..m.positions.len()).map(|w| w != v).collect();
+        (m, pinned)
+    }
+
     fn plane() -> Surface {
         Surface::new(vec![[[-1.0, -1.0, 0.0], [2.0, -1.0, 0.0], [2.0, 2.0, 0.0]], [[-1.0, -1.0, 0.0], [2.0, 2.0, 0.0], [-1.0, 2.0, 0.0]]])
     }
@@ -403,10 +410,8 @@ mod tests {
     fn a_vertex_folded_over_its_neighbour_is_unfolded() {
         // The only free vertex sits beyond the corner of its diagonal neighbour: its quads
         // fold. Moves that unfold are allowed, and none may fold anything again.
-        let (mut m, mut pinned) = grid(4, |_, _| [0.0; 2]);
         let v = 2 * 5 + 2;
-        pinned.iter_mut().for_each(|p| *p = true);
-        pinned[v] = false;
+        let (mut m, pinned) = grid_free_at(4, v);
         m.positions[v] = [0.8, 0.8, 0.0];
         let normals = vec![[0.0, 0.0, 1.0]; m.positions.len()];
         let folded = |m: &QuadMesh| m.quads.iter().filter(|&&q| shape(&m.positions, q, &normals, &plane(), &mut 0).flipped).count();
@@ -422,10 +427,8 @@ mod tests {
         // away from the middle: the neighbours' mean and the parallelograms are not where
         // the four quads' corners come nearest right angles, which a search of the square
         // finds (the skew's squares have one least there).
-        let (mut m, mut pinned) = grid(2, |_, _| [0.0; 2]);
         let v = 4;
-        pinned.iter_mut().for_each(|p| *p = true);
-        pinned[v] = false;
+        let (mut m, pinned) = grid_free_at(2, v);
         m.positions[5] = [1.0, 0.8, 0.0];
         m.positions[7] = [0.8, 1.0, 0.0];
         let skew_at = |m: &QuadMesh, x: [f64; 2]| {
@@ -447,10 +450,8 @@ mod tests {
     fn a_free_border_vertex_folded_inwards_goes_back_to_where_its_quads_are_parallelograms() {
         // On the border, the vertex has three neighbours, whose mean lies inside the patch: the
         // parallelograms of its two quads put it back on the border.
-        let (mut m, mut pinned) = grid(4, |_, _| [0.0; 2]);
         let v = 2;
-        pinned.iter_mut().for_each(|p| *p = true);
-        pinned[v] = false;
+        let (mut m, pinned) = grid_free_at(4, v);
         m.positions[v] = [0.5, 0.55, 0.0];
         let normals = vec![[0.0, 0.0, 1.0]; m.positions.len()];
         let folded = |m: &QuadMesh| m.quads.iter().filter(|&&q| shape(&m.positions, q, &normals, &plane(), &mut 0).flipped).count();
