@@ -204,12 +204,11 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
     // folded, or as many and their corners come nearer right angles, and none of them folds
     // or strays from the surface beyond what extraction left; a corner may turn inside out
     // only in a move that unfolds quads and leaves them sounder on the whole.
-    let mut moved = vec![false; n];
     let mut centre_leaf = 0;
     // The quads' shapes as they are: a quad's changes only when one of its corners moves.
     let mut now = before.clone();
-    // Moves so far; the count after each vertex's latest move, and when a vertex's latest
-    // look found no move. A vertex none of whose quads changed since then would be refused
+    // Moves so far; the count after each vertex's latest move (0: it never moved), and when a
+    // vertex's latest look found no move. A vertex none of whose quads changed since then would be refused
     // again (its moves and their judgement are the same): it is not looked at.
     let mut moves = 0u64;
     let mut moved_at = vec![0u64; n];
@@ -288,7 +287,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                 landed.retain(|l| l.0 < skew_before);
                 landed.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
-            for (_, q, nq) in landed {
+            for (skew_now, q, nq) in landed {
                 if folded_before == 0 && best.is_some() {
                     break;
                 }
@@ -296,7 +295,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                 quads.positions[v] = q;
                 normals[v] = nq;
                 let shapes = shapes_around(&quads.positions, &normals);
-                let score = (folded(&shapes), skew_around(&quads.positions));
+                let score = (folded(&shapes), skew_now);
                 let unfolds = score.0 < folded_before && badness(&shapes) < badness(&shapes_before);
                 let better = unfolds || (score.0 == folded_before && score.1 < skew_before);
                 let sound = better
@@ -321,7 +320,6 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                 for (&i, shape) in around.iter().zip(shapes) {
                     now[i as usize] = shape;
                 }
-                moved[v] = true;
                 moves += 1;
                 moved_at[v] = moves;
                 refused_at[v] = None;
@@ -330,7 +328,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
             }
         }
     }
-    moved.iter().filter(|&&m| m).count()
+    moved_at.iter().filter(|&&t| t > 0).count()
 }
 
 #[cfg(test)]
