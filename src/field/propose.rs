@@ -16,8 +16,9 @@
 //! 5. The graph is written as a layout file (nodes on vertices, feature curves through all
 //!    their vertices and tagged, traces through the few vertices that keep the geodesic on
 //!    them, [`sparse_waypoints`], or through all where that lets curves meet) and checked
-//!    with [`build_layout`] and the sample-count equations; every face gets a rectangle chart
-//!    (see [`write`] for why not the paper's Section 5 general quads on feature faces).
+//!    with the layout reader ([`crate::layout::place`], once for both of the corners'
+//!    placements) and the sample-count equations; every face gets a rectangle chart (see
+//!    [`write`] for why not the paper's Section 5 general quads on feature faces).
 //! 6. A short solve measures each face's distortion; the faces far more distorted than the
 //!    others get a cross of traces where it concentrates, and steps 4–5 run again, while the
 //!    layout's distortion goes down; then a long side of a sliver face goes while the
@@ -32,7 +33,7 @@ use super::waypoints::sparse_waypoints;
 use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
-use crate::layout::{build_layout, curve, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout, MAX_WAYPOINTS};
+use crate::layout::{curve, place, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout, MAX_WAYPOINTS};
 use crate::geom::{norm, sub, Vec3};
 use crate::mesh::geometry::corner_angle;
 use crate::mesh::topology::topology;
@@ -793,7 +794,9 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
         mesh: Some(MeshCounts::of(mesh)),
         ..Default::default()
     };
-    let surface = build_layout(mesh, &layout).map_err(Rejected::Layout)?;
+    // Placed once: the patches below change only the corners.
+    let placed = place(mesh, &layout, MeshCounts::of(mesh)).map_err(Rejected::Layout)?;
+    let surface = placed.with_patches(mesh, &layout).map_err(Rejected::Layout)?;
     // Corners where the face turns most, measured along the curves rather than on their
     // first mesh edge (a trace zig-zags along edges). Every face gets a rectangle: the
     // paper's Section 5 gives faces bounded by features general quadrilaterals, but those
@@ -818,7 +821,7 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
             layout.patches.push(p.clone());
         }
     }
-    let surface = build_layout(mesh, &layout).map_err(Rejected::Layout)?;
+    let surface = placed.with_patches(mesh, &layout).map_err(Rejected::Layout)?;
     let h = default_edge_length(mesh);
     // The counts of Section 4 as extraction poses them (one unknown per face and piece),
     // wished from the curves' lengths; the error names curves.

@@ -218,18 +218,54 @@ impl PartialOrd for Entry {
     }
 }
 
+/// The per-vertex state of [`edge_path`], kept between its calls: a placement runs it once
+/// per leg (about 1,500 legs for an automatic layout on bunny_28k), and filling three arrays
+/// of the mesh's size for each took longer than most searches. Entries a search touched are
+/// set back when it ends.
+struct SearchState {
+    dist: Vec<f64>,
+    via: Vec<u32>,
+    done: Vec<bool>,
+    touched: Vec<u32>,
+}
+
+thread_local! {
+    static SEARCH: std::cell::RefCell<SearchState> =
+        const { std::cell::RefCell::new(SearchState { dist: Vec::new(), via: Vec::new(), done: Vec::new(), touched: Vec::new() }) };
+}
+
 /// The halfedges of a shortest edge path from `s` to `t` that enters no blocked vertex
 /// except `t`, or `None` if there is none. A* with the straight-line distance to `t`, which
 /// never overestimates and is consistent, so each vertex is settled once.
 fn edge_path(mesh: &Mesh, s: u32, t: u32, blocked: &[bool]) -> Option<Vec<u32>> {
-    let nv = mesh.n_vertices();
+    SEARCH.with(|state| {
+        let state = &mut *state.borrow_mut();
+        let nv = mesh.n_vertices();
+        if state.dist.len() < nv {
+            state.dist.resize(nv, f64::INFINITY);
+            state.via.resize(nv, NONE);
+            state.done.resize(nv, false);
+        }
+        let path = a_star(mesh, s, t, blocked, state);
+        for &v in &state.touched {
+            state.dist[v as usize] = f64::INFINITY;
+            state.via[v as usize] = NONE;
+            state.done[v as usize] = false;
+        }
+        state.touched.clear();
+        path
+    })
+}
+
+/// The search of [`edge_path`] on `state`, whose entries are unset on entry; records every
+/// vertex it sets in `state.touched`.
+fn a_star(mesh: &Mesh, s: u32, t: u32, blocked: &[bool], state: &mut SearchState) -> Option<Vec<u32>> {
     let target = mesh.position(t);
     let heuristic = |v: u32| norm(sub(mesh.position(v), target));
-    let mut dist = vec![f64::INFINITY; nv];
-    let mut via = vec![NONE; nv];
-    let mut done = vec![false; nv];
+    let SearchState { dist, via, done, touched } = state;
     let mut heap = BinaryHeap::new();
     dist[s as usize] = 0.0;
+    touched.push(s);
     heap.push(Entry(heuristic(s), s));
     while let Some(Entry(_, v)) = heap.pop() {
         if done[v as usize] {
@@ -255,6 +291,9 @@ fn edge_path(mesh: &Mesh, s: u32, t: u32, blocked: &[bool]) -> Option<Vec<u32>> 
             }
             let d = dist[v as usize] + norm(sub(mesh.position(w), pv));
             if d < dist[w as usize] {
+                if dist[w as usize] == f64::INFINITY {
+                    touched.push(w);
+                }
                 dist[w as usize] = d;
                 via[w as usize] = h;
                 heap.push(Entry(d + heuristic(w), w));

@@ -258,6 +258,30 @@ pub fn build_layout(mesh: &Mesh, layout: &Layout) -> Result<SurfaceLayout, Layou
 /// # Errors
 /// Every rule of the layout format; see [`LayoutError`].
 pub fn build_layout_on(mesh: &Mesh, layout: &Layout, as_read: MeshCounts) -> Result<SurfaceLayout, LayoutError> {
+    place(mesh, layout, as_read)?.with_patches(mesh, layout)
+}
+
+/// A layout placed on the surface up to its faces' corners: all that its `patches` and
+/// default chart do not change. Tracing the curves is most of a placement's time, so a
+/// producer of layouts that picks the corners from the placed faces ([`crate::field`])
+/// places once and sets the corners with [`Placement::with_patches`].
+pub struct Placement {
+    node_vertex: Vec<u32>,
+    curves: Vec<LayoutCurve>,
+    traced: Vec<embedding::TracedFace>,
+    rot: embedding::Rotation,
+    /// Per vertex: the curve running through it, or [`NONE`].
+    on_curve: Vec<u32>,
+    /// Per vertex: the face of its region, or [`NONE`] (nodes and curves).
+    region_face: Vec<u32>,
+}
+
+/// The first stage of [`build_layout_on`]: curves, faces and their regions, all but the
+/// corners.
+///
+/// # Errors
+/// Every rule of the layout format but those of `patches`; see [`LayoutError`].
+pub fn place(mesh: &Mesh, layout: &Layout, as_read: MeshCounts) -> Result<Placement, LayoutError> {
     layout.check_mesh(&[MeshCounts::of(mesh), as_read])?;
     let node_vertex = file::resolve_nodes(mesh, layout)?;
     let mut is_node = vec![false; mesh.n_vertices()];
@@ -383,23 +407,37 @@ pub fn build_layout_on(mesh: &Mesh, layout: &Layout, as_read: MeshCounts) -> Res
         return Err(LayoutError::FaceNotDisk { nodes: Vec::new(), reason });
     }
 
-    let faces = choose_corners(layout, traced)?;
-    let face_left_of = |d: Directed| faces.iter().position(|f| f.pieces.contains(&d)).map_or(NONE, |i| i as u32);
-    let mut vertex_face: Vec<u32> = region.iter().map(|&r| if r == NONE { NONE } else { region_face[r as usize] }).collect();
-    for (v, &c) in cuts.on_curve.iter().enumerate() {
-        if c != NONE {
-            vertex_face[v] = face_left_of(Directed { curve: c, forward: true });
+    let region_face = region.iter().map(|&r| if r == NONE { NONE } else { region_face[r as usize] }).collect();
+    Ok(Placement { node_vertex, curves, traced, rot, on_curve: cuts.on_curve, region_face })
+}
+
+impl Placement {
+    /// The placed layout with the corners and charts of `layout`'s `patches` (and its
+    /// default chart): the second stage of [`build_layout_on`]. `layout` differs from the
+    /// one placed at most in those.
+    ///
+    /// # Errors
+    /// [`LayoutError::PatchNotAFace`] for a `patches` entry that names no face.
+    pub fn with_patches(&self, mesh: &Mesh, layout: &Layout) -> Result<SurfaceLayout, LayoutError> {
+        let faces = choose_corners(layout, self.traced.clone())?;
+        let face_left_of = |d: Directed| faces.iter().position(|f| f.pieces.contains(&d)).map_or(NONE, |i| i as u32);
+        let mut vertex_face = self.region_face.clone();
+        for (v, &c) in self.on_curve.iter().enumerate() {
+            if c != NONE {
+                vertex_face[v] = face_left_of(Directed { curve: c, forward: true });
+            }
         }
+        let triangle_face = mesh
+            .triangles()
+            .iter()
+            .map(|t| match t.iter().find(|&&v| vertex_face[v as usize] != NONE) {
+                Some(&v) => vertex_face[v as usize],
+                None => sector_face(mesh, &self.rot, &self.node_vertex, t, &face_left_of),
+            })
+            .collect();
+        let (node_vertex, curves) = (self.node_vertex.clone(), self.curves.clone());
+        Ok(SurfaceLayout { node_vertex, curves, faces, vertex_face, triangle_face })
     }
-    let triangle_face = mesh
-        .triangles()
-        .iter()
-        .map(|t| match t.iter().find(|&&v| vertex_face[v as usize] != NONE) {
-            Some(&v) => vertex_face[v as usize],
-            None => sector_face(mesh, &rot, &node_vertex, t, &face_left_of),
-        })
-        .collect();
-    Ok(SurfaceLayout { node_vertex, curves, faces, vertex_face, triangle_face })
 }
 
 /// The face of a triangle whose corners are all nodes: the face whose sector at its first

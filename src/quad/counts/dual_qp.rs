@@ -47,9 +47,14 @@ pub(super) struct DualQp<'a> {
     /// Per piece, its count as a linear form in `z`.
     rows: &'a [Row],
     k: usize,
-    /// `L⁻ᵀ Q`, row-major `k × k`.
+    /// `L⁻ᵀ Q`, `k × k`, column-major: column `c` at `j[c * k..]`. The method's hot loops
+    /// run down columns: the Givens rotations of two columns, and the primal step (a sum of
+    /// columns).
     j: Vec<f64>,
-    /// `R`, column-major: column `c` (the `c`-th active constraint) at `r[c * k..]`.
+    /// `R`, row-major with rows `k` long: row `i` at `r[i * k..]`, column `c` (the `c`-th active
+    /// constraint) at `r[i * k + c]`; rows `0..q` for `q` active constraints. Rows, because
+    /// the back substitution and the rotations that drop a constraint run along them; entries
+    /// below the first subdiagonal are never read.
     r: Vec<f64>,
     active: Vec<Constraint>,
     /// Lagrange multipliers of `active`.
@@ -105,6 +110,8 @@ impl<'a> DualQp<'a> {
         // z = H⁻¹ g = J Jᵀ g.
         let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[i * k + c] * g[i]).sum()).collect();
         let z = (0..k).map(|i| (0..k).map(|c| j[i * k + c] * jt_g[c]).sum()).collect();
+        // Row-major so far; stored column-major.
+        let j = (0..k * k).map(|x| j[(x % k) * k + x / k]).collect();
         Some(DualQp { rows, k, j, r: Vec::new(), active: Vec::new(), u: Vec::new(), z, fixed: vec![Fixing::Free; k], steps: 0 })
     }
 
@@ -185,18 +192,18 @@ impl<'a> DualQp<'a> {
 
     /// `Jᵀ n` for the normal `n` of `c`.
     fn jt_normal(&self, c: Constraint) -> Vec<f64> {
-        let k = self.k;
-        let mut d = vec![0.0; k];
-        let mut add_row = |i: usize, x: f64| {
-            for (dc, jc) in d.iter_mut().zip(&self.j[i * k..(i + 1) * k]) {
-                *dc += x * jc;
+        let fix;
+        let normal: &[(usize, f64)] = match c {
+            Constraint::Bound(i) => &self.rows[i],
+            Constraint::Fix { j, sign, .. } => {
+                fix = [(j, sign)];
+                &fix
             }
         };
-        match c {
-            Constraint::Bound(i) => self.rows[i].iter().for_each(|&(a, x)| add_row(a, x)),
-            Constraint::Fix { j, sign, .. } => add_row(j, sign),
-        }
-        d
+        self.j
+            .chunks_exact(self.k)
+            .map(|column| normal.iter().fold(0.0, |d, &(a, x)| d + x * column[a]))
+            .collect()
     }
 
     /// The bounds in conflict when `c` cannot be added: `c` and the active bounds that
@@ -225,7 +232,8 @@ impl<'a> DualQp<'a> {
             let independent = d2_sq > 1e-20 * d_sq;
             let mut back = vec![0.0; q];
             for i in (0..q).rev() {
-                let s = d[i] - (i + 1..q).map(|m| self.r[m * k + i] * back[m]).sum::<f64>();
+                let row = &self.r[i * k..i * k + q];
+                let s = d[i] - row[i + 1..].iter().zip(&back[i + 1..]).map(|(r, b)| r * b).sum::<f64>();
                 back[i] = s / self.r[i * k + i];
             }
             // Partial step: the largest dual step keeping the bounds' multipliers ≥ 0.
@@ -249,9 +257,16 @@ impl<'a> DualQp<'a> {
                 (None, Some(t2)) => t2,
             };
             if full.is_some() {
-                for i in 0..k {
-                    let step: f64 = (q..k).map(|m| self.j[i * k + m] * d[m]).sum();
-                    self.z[i] += t * step;
+                // J₂ d₂, column by column (each entry summed in the order of m, from −0 as
+                // `Sum` does).
+                let mut step = vec![-0.0; k];
+                for (column, &dm) in self.j.chunks_exact(k).zip(&d).skip(q) {
+                    for (s, &jm) in step.iter_mut().zip(column) {
+                        *s += jm * dm;
+                    }
+                }
+                for (z, s) in self.z.iter_mut().zip(&step) {
+                    *z += t * s;
                 }
             }
             for (ui, ri) in self.u.iter_mut().zip(&back) {
@@ -282,8 +297,11 @@ impl<'a> DualQp<'a> {
             d[m] = 0.0;
             self.rotate_j(m - 1, cos, sin);
         }
-        self.r.truncate(q * k);
-        self.r.extend_from_slice(&d);
+        // Column q: d's entries 0..=q (those below are zero and below the subdiagonal).
+        self.r.resize((q + 1) * k, 0.0);
+        for (i, &di) in d.iter().enumerate().take(q + 1) {
+            self.r[i * k + q] = di;
+        }
         if let Constraint::Fix { j, value, .. } = c {
             self.fixed[j] = Fixing::Held(value);
         }
@@ -294,33 +312,36 @@ impl<'a> DualQp<'a> {
     /// Removes the `l`-th active constraint and makes `R` triangular again.
     fn drop_active(&mut self, l: usize) {
         let (k, q) = (self.k, self.active.len());
-        self.r.drain(l * k..(l + 1) * k);
+        for i in 0..q {
+            self.r.copy_within(i * k + l + 1..i * k + q, i * k + l);
+        }
         self.active.remove(l);
         self.u.remove(l);
         // Columns l.. now have one entry below the diagonal: rotate rows (m, m + 1) away.
         for m in l..q - 1 {
-            let (a, b) = (self.r[m * k + m], self.r[m * k + m + 1]);
+            let (a, b) = (self.r[m * k + m], self.r[(m + 1) * k + m]);
             if b == 0.0 {
                 continue;
             }
             let h = a.hypot(b);
             let (cos, sin) = (a / h, b / h);
-            for col in m..q - 1 {
-                let (x, y) = (self.r[col * k + m], self.r[col * k + m + 1]);
-                self.r[col * k + m] = cos * x + sin * y;
-                self.r[col * k + m + 1] = -sin * x + cos * y;
+            let (upper, lower) = self.r[m * k..(m + 2) * k].split_at_mut(k);
+            for (x, y) in upper[m..q - 1].iter_mut().zip(&mut lower[m..q - 1]) {
+                (*x, *y) = (cos * *x + sin * *y, -sin * *x + cos * *y);
             }
             self.rotate_j(m, cos, sin);
         }
+        self.r.truncate((q - 1) * k);
     }
 
     /// Columns `m` and `m + 1` of `J` ← their rotation by (cos, sin).
     fn rotate_j(&mut self, m: usize, cos: f64, sin: f64) {
         let k = self.k;
-        for row in self.j.chunks_exact_mut(k) {
-            let (x, y) = (row[m], row[m + 1]);
-            row[m] = cos * x + sin * y;
-            row[m + 1] = -sin * x + cos * y;
+        let (left, right) = self.j[m * k..(m + 2) * k].split_at_mut(k);
+        for (a, b) in left.iter_mut().zip(right) {
+            let (x, y) = (*a, *b);
+            *a = cos * x + sin * y;
+            *b = -sin * x + cos * y;
         }
     }
 }
