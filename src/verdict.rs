@@ -12,7 +12,14 @@
 //!   others", if it holds at least [`DISTORTED_QUADS`] quads' area (a smaller face's
 //!   distortion is not seen in its few quads);
 //! - any flipped triangle of the final parameterization, any folded quad, and any curve whose
-//!   desired count was below one half (rounding would give none) but got a segment.
+//!   desired count was below one half (rounding would give none) but got a segment;
+//! - a curve whose segments are more than [`STRETCHED`] times longer than its faces ask for,
+//!   and [`STRETCHED_SEGMENTS`] segments or more short: quads that many times longer than wide,
+//!   which the equal counts of opposite sides forced through the faces and T-vertices round it.
+//!   A stretched strip is where quads cut across the surface (eight's automatic layout: a curve
+//!   asking for 19 segments got 2, and its quads missed the surface by 5 % of the diagonal), so
+//!   the user learns which curves to look at, not only that the surface was missed. Squeezed
+//!   quads (more segments than asked) stay on the surface and are not warned of.
 
 use crate::guidance::FaceDistortion;
 use crate::layout::{CurveSource, SurfaceLayout};
@@ -37,6 +44,11 @@ pub const DISTORTED_FLOOR: f64 = 0.5;
 pub const DISTORTED_QUADS: f64 = 4.0;
 /// A curve asking for fewer segments than this would round to none.
 pub const RAISED_BELOW: f64 = 0.5;
+/// A curve's segments this many times longer than its faces ask for...
+pub const STRETCHED: f64 = 2.0;
+/// ... and at least this many segments short (a curve asking for 2.9 segments and getting 1 is
+/// a rounding, not a forced strip).
+pub const STRETCHED_SEGMENTS: f64 = 2.0;
 /// A quad count this far (as a share) from what the surface area asks for is a warning: the
 /// area rule lands within 10 % on every sample layout (tests/quad_density.rs), and rounding
 /// alone moves a coarse grid by up to 13 %.
@@ -46,7 +58,7 @@ pub const COUNT_OFF: f64 = 0.15;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Warning {
     /// `surface_missed`, `face_distorted`, `flipped_triangles`, `folded_quads`,
-    /// `counts_raised` or `quad_count_off`.
+    /// `counts_raised`, `counts_stretched` or `quad_count_off`.
     pub kind: &'static str,
     /// What is wrong and what may help, for people.
     pub message: String,
@@ -102,6 +114,31 @@ pub fn faces_above(face_area: &[f64], measured: &FaceDistortion, h: f64, ratio: 
             e > floor && e > ratio * median && face_area[f] >= DISTORTED_QUADS * h * h
         })
         .collect()
+}
+
+/// The curves whose `desired` counts are more than [`STRETCHED`] times their `counts` and
+/// [`STRETCHED_SEGMENTS`] or more above, the most stretched first.
+pub fn stretched_curves(desired: &[f64], counts: &[u32]) -> Vec<usize> {
+    let stretch = |c: usize| desired[c] / counts[c].max(1) as f64;
+    let mut out: Vec<usize> = (0..counts.len().min(desired.len()))
+        .filter(|&c| stretch(c) > STRETCHED && desired[c] - counts[c] as f64 >= STRETCHED_SEGMENTS)
+        .collect();
+    out.sort_by(|&a, &b| stretch(b).total_cmp(&stretch(a)));
+    out
+}
+
+/// Names the layout entries of `curves` in `w`: edges, and the boundary loops of boundary
+/// pieces.
+fn name_curves(w: &mut Warning, layout: &SurfaceLayout, curves: &[usize]) {
+    for &c in curves {
+        match layout.curves[c].source {
+            CurveSource::Edge(i) => w.edges.push(i),
+            CurveSource::Boundary { boundary_loop } if !w.boundary_loops.contains(&boundary_loop) => {
+                w.boundary_loops.push(boundary_loop)
+            }
+            CurveSource::Boundary { .. } => {}
+        }
+    }
 }
 
 /// What went into a result, for [`warnings`].
@@ -207,18 +244,36 @@ pub fn warnings(o: &Outcome) -> Vec<Warning> {
                 raised.len()
             ),
         );
-        for &c in &raised {
-            match o.layout.curves[c].source {
-                CurveSource::Edge(i) => w.edges.push(i),
-                CurveSource::Boundary { boundary_loop } if !w.boundary_loops.contains(&boundary_loop) => {
-                    w.boundary_loops.push(boundary_loop)
-                }
-                CurveSource::Boundary { .. } => {}
-            }
-        }
+        name_curves(&mut w, o.layout, &raised);
         let points = &cut.curve_vertices[first];
         w.at = points.get(points.len() / 2).map(|&v| cut.positions[v as usize]);
         w.count = Some(raised.len());
+        out.push(w);
+    }
+    let stretched = stretched_curves(o.desired, o.counts);
+    if let Some(&worst) = stretched.first() {
+        let (n, d) = (o.counts[worst], o.desired[worst]);
+        let segments = if n == 1 { "segment" } else { "segments" };
+        let which = match o.layout.curves[worst].source {
+            CurveSource::Edge(i) => format!("layout edge {i}"),
+            CurveSource::Boundary { boundary_loop } => format!("a piece of boundary loop {boundary_loop}"),
+        };
+        let mut w = Warning::new(
+            "counts_stretched",
+            format!(
+                "{} layout curves got segments more than {STRETCHED} times longer than their faces ask for (the \
+                 worst, {which}: {n} {segments} where about {d:.1} were asked, quads about {:.1} times longer along \
+                 it than across): opposite sides of a face must get equal counts, and the faces and T-vertices \
+                 round these curves force it; move or remove a T-vertex there, or make the faces nearer \
+                 rectangles",
+                stretched.len(),
+                d / n.max(1) as f64
+            ),
+        );
+        name_curves(&mut w, o.layout, &stretched);
+        let points = &cut.curve_vertices[worst];
+        w.at = points.get(points.len() / 2).map(|&v| cut.positions[v as usize]);
+        w.count = Some(stretched.len());
         out.push(w);
     }
     let asked = o.surface_area / (o.edge_length * o.edge_length);
@@ -252,6 +307,15 @@ mod tests {
     fn measured(length_error: Vec<f64>) -> FaceDistortion {
         let n = length_error.len();
         FaceDistortion { distortion: vec![0.0; n], length_error, length_error_all: 0.0, worst_at: vec![None; n] }
+    }
+
+    #[test]
+    fn curves_far_from_their_counts_are_stretched_the_worst_first() {
+        let desired = [10.0, 11.2, 9.0, 2.9, 0.3, 6.0, 7.5, 2.0];
+        let counts = [10, 2, 4, 1, 1, 3, 3, 9];
+        // 11.2 → 2 (5.6 times) before 7.5 → 3 (2.5) and 9 → 4 (2.25); 2.9 → 1 is a rounding
+        // (fewer than two segments short), 6 → 3 exactly twice, 0.3 → 1 and 2 → 9 squeezed.
+        assert_eq!(stretched_curves(&desired, &counts), vec![1, 6, 2]);
     }
 
     #[test]

@@ -24,6 +24,15 @@ fn mushroom() -> String {
     shared_mesh("mushroom.obj").to_string_lossy().into_owned()
 }
 
+/// The report of `quadlay remesh MESH --layout LAYOUT EXTRA... --report -`, which succeeds.
+fn remesh_report(mesh: &str, layout: &str, extra: &[&str]) -> Value {
+    let mut args = vec!["remesh", mesh, "--layout", layout, "--report", "-"];
+    args.extend_from_slice(extra);
+    let (code, stdout, stderr) = run_cli(&args);
+    assert_eq!(code, 0, "{stderr}");
+    serde_json::from_str(&stdout).unwrap()
+}
+
 #[test]
 fn remesh_writes_quads_param_uvs_and_the_report() {
     let dir = scratch("outputs");
@@ -158,11 +167,7 @@ fn quads_option_asks_for_a_number_of_quads() {
 /// 21 % of the diagonal) and says where, on the bunny's surface.
 #[test]
 fn warnings_say_what_to_look_at_and_a_clean_result_has_none() {
-    let run = |mesh: &str, layout_name: &str| -> Value {
-        let (code, stdout, stderr) = run_cli(&["remesh", mesh, "--layout", &layout(layout_name), "--report", "-"]);
-        assert_eq!(code, 0, "{stderr}");
-        serde_json::from_str(&stdout).unwrap()
-    };
+    let run = |mesh: &str, layout_name: &str| remesh_report(mesh, &layout(layout_name), &[]);
     let clean = run(&mushroom(), "mushroom-grid");
     assert_eq!(clean["warnings"], serde_json::json!([]), "{}", clean["warnings"]);
     let faces = clean["faces"].as_array().unwrap();
@@ -195,17 +200,33 @@ fn warnings_say_what_to_look_at_and_a_clean_result_has_none() {
     assert!(suggested >= 3, "{}", bad["faces"]);
 }
 
+/// Curves whose quads are forced far longer than their faces ask for are a warning
+/// (`counts_stretched`) naming them, the most stretched first: bunny-ears at 4000 quads gives
+/// its edge 36, on an ear, one segment where its faces ask for about five. At the default
+/// density the same layout's counts follow its faces, and nothing is said.
+#[test]
+fn curves_whose_quads_are_stretched_are_named() {
+    let (bunny, ears) = (shared_mesh("bunny_28k.obj").to_string_lossy().into_owned(), layout("bunny-ears"));
+    let dense = remesh_report(&bunny, &ears, &["--quads", "4000"]);
+    let warnings = dense["warnings"].as_array().unwrap();
+    let stretched = warnings.iter().find(|w| w["kind"] == "counts_stretched").expect("counts_stretched");
+    let edges: Vec<u64> = stretched["edges"].as_array().unwrap().iter().map(|e| e.as_u64().unwrap()).collect();
+    assert_eq!(edges.first(), Some(&36), "{stretched}");
+    assert_eq!(stretched["count"].as_u64(), Some(edges.len() as u64), "{stretched}");
+    let counts = dense["sample_counts"].as_array().unwrap();
+    assert_eq!(counts[36], 1, "the report's counts agree");
+    assert!(stretched["message"].as_str().unwrap().contains("layout edge 36: 1 segment where"), "{stretched}");
+    assert!(stretched["at"].as_array().is_some_and(|a| a.len() == 3), "{stretched}");
+    let sparse = remesh_report(&bunny, &ears, &[]);
+    assert!(sparse["warnings"].as_array().unwrap().iter().all(|w| w["kind"] != "counts_stretched"), "{}", sparse["warnings"]);
+}
+
 /// A quad count far from what was asked is a warning (`quad_count_off`): the mushroom's 2×2
 /// grid at 3 quads must give each of its curves a segment at least, 4 quads; at 2000 it
 /// lands within the tolerance and says nothing.
 #[test]
 fn a_quad_count_far_from_the_asked_one_is_a_warning() {
-    let run = |quads: &str| -> Value {
-        let args = ["remesh", &mushroom(), "--layout", &layout("mushroom-grid"), "--quads", quads, "--report", "-"];
-        let (code, stdout, stderr) = run_cli(&args);
-        assert_eq!(code, 0, "{stderr}");
-        serde_json::from_str(&stdout).unwrap()
-    };
+    let run = |quads: &str| remesh_report(&mushroom(), &layout("mushroom-grid"), &["--quads", quads]);
     let coarse = run("3");
     let off: Vec<&Value> = coarse["warnings"].as_array().unwrap().iter().filter(|w| w["kind"] == "quad_count_off").collect();
     assert_eq!(off.len(), 1, "{}", coarse["warnings"]);
@@ -241,13 +262,7 @@ fn a_layout_for_another_mesh_is_refused() {
 #[test]
 fn chart_and_no_align_options_change_the_result() {
     let (m, l) = (mushroom(), layout("mushroom-grid"));
-    let run = |extra: &[&str]| -> Value {
-        let mut args = vec!["remesh", &m, "--layout", &l, "--report", "-"];
-        args.extend_from_slice(extra);
-        let (code, stdout, stderr) = run_cli(&args);
-        assert_eq!(code, 0, "{stderr}");
-        serde_json::from_str(&stdout).unwrap()
-    };
+    let run = |extra: &[&str]| remesh_report(&m, &l, extra);
     let quad = run(&["--iterations", "3"]);
     let unit = run(&["--iterations", "3", "--chart", "unit"]);
     let d = |r: &Value| r["parameterization"]["distortion_mean"].as_f64().unwrap();

@@ -27,6 +27,7 @@ const TITLES = {
   flipped_triangles: 'Flipped triangles',
   folded_quads: 'Folded quads',
   counts_raised: 'Curves too short for one edge',
+  counts_stretched: 'Quads stretched along some curves',
   quad_count_off: 'Not the quad count asked for',
 };
 
