@@ -866,7 +866,12 @@ const MEET_TOL: f64 = SNAP;
 ///
 /// Precondition: both curves are well formed (as [`trace_curve`] returns them).
 pub fn meeting_point(mesh: &Mesh, a: &Curve, b: &Curve, shared: &[u32]) -> Option<[f64; 3]> {
-    let (pa, pb) = (Prepared::new(mesh, a), Prepared::new(mesh, b));
+    meeting_point_of(mesh, a, &Prepared::new(mesh, a), &Prepared::new(mesh, b), shared)
+}
+
+/// [`meeting_point`] of `a` and the curve `pb` was made from, `pa` made from `a`: a layout
+/// tests each curve against many, and makes each [`Prepared`] once.
+pub fn meeting_point_of(mesh: &Mesh, a: &Curve, pa: &Prepared, pb: &Prepared, shared: &[u32]) -> Option<[f64; 3]> {
     // A vertex both run through or end at.
     for p in &a.points {
         if let CurvePoint::Vertex(v) = *p {
@@ -886,7 +891,7 @@ pub fn meeting_point(mesh: &Mesh, a: &Curve, b: &Curve, shared: &[u32]) -> Optio
         }
     }
     // Stretches along edges.
-    if let Some(p) = along_edges(mesh, &pa, &pb).or_else(|| along_edges(mesh, &pb, &pa)) {
+    if let Some(p) = along_edges(mesh, pa, pb).or_else(|| along_edges(mesh, pb, pa)) {
         return Some(p);
     }
     // Segments inside triangles.
@@ -900,9 +905,9 @@ pub fn meeting_point(mesh: &Mesh, a: &Curve, b: &Curve, shared: &[u32]) -> Optio
     None
 }
 
-/// A curve sorted for meeting tests. Lists keep the curve's order, so that the meeting point
-/// reported is the same from run to run.
-struct Prepared {
+/// A curve sorted for meeting tests ([`meeting_point_of`]). Lists keep the curve's order, so
+/// that the meeting point reported is the same from run to run.
+pub struct Prepared {
     vertices: HashSet<u32>,
     /// Edge → parameters of the crossings on it.
     edge_points: HashMap<u32, Vec<f64>>,
@@ -925,7 +930,8 @@ fn param_on_edge(mesh: &Mesh, p: &CurvePoint, e: u32) -> Option<f64> {
 }
 
 impl Prepared {
-    fn new(mesh: &Mesh, c: &Curve) -> Prepared {
+    /// The meeting-test view of `c`.
+    pub fn new(mesh: &Mesh, c: &Curve) -> Prepared {
         let mut out = Prepared {
             vertices: HashSet::new(),
             edge_points: HashMap::new(),

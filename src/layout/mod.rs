@@ -12,7 +12,7 @@ pub mod patches;
 
 use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
-use curve::{meeting_point, trace_curve, Curve, CurvePoint};
+use curve::{meeting_point_of, trace_curve, Curve, CurvePoint, Prepared};
 use embedding::{rotation, trace_faces, CurveNodes, Directed};
 pub use file::{parse_layout, write_layout, ChartType, Element, Entry, Layout, LayoutFileError, Location, MeshCounts, MAX_WAYPOINTS};
 use crate::culprits::Culprits;
@@ -471,6 +471,7 @@ fn check_meetings(mesh: &Mesh, curves: &[LayoutCurve], node_vertex: &[u32]) -> R
         (lo, hi)
     };
     let boxes: Vec<_> = curves.iter().map(|c| bbox(&c.curve)).collect();
+    let prepared: Vec<Prepared> = curves.iter().map(|c| Prepared::new(mesh, &c.curve)).collect();
     for i in 0..curves.len() {
         for j in i + 1..curves.len() {
             let ((lo_a, hi_a), (lo_b, hi_b)) = (boxes[i], boxes[j]);
@@ -479,7 +480,7 @@ fn check_meetings(mesh: &Mesh, curves: &[LayoutCurve], node_vertex: &[u32]) -> R
             }
             let ends = |c: &LayoutCurve| c.nodes.map(|n| node_vertex[n as usize]);
             let shared: Vec<u32> = ends(&curves[i]).into_iter().filter(|v| ends(&curves[j]).contains(v)).collect();
-            if let Some(at) = meeting_point(mesh, &curves[i].curve, &curves[j].curve, &shared) {
+            if let Some(at) = meeting_point_of(mesh, &curves[i].curve, &prepared[i], &prepared[j], &shared) {
                 return Err(LayoutError::CurvesMeet { a: curves[i].source, b: curves[j].source, at });
             }
         }
