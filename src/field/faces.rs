@@ -34,14 +34,6 @@ pub struct Faces {
     pub slits: Vec<u32>,
 }
 
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        parent[x as usize] = parent[parent[x as usize] as usize];
-        x = parent[x as usize];
-    }
-    x
-}
-
 /// Cuts `mesh` along the segments of `graph` and its boundary and measures the pieces.
 pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
     let ne = mesh.n_edges();
@@ -53,32 +45,36 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
             }
         }
     }
+    // Faces: the triangles reached from each across uncut edges, numbered in the order of
+    // their first triangle.
     let nf = mesh.n_faces();
-    let mut parent: Vec<u32> = (0..nf as u32).collect();
-    for e in 0..ne as u32 {
-        let (f, g) = (mesh.face(2 * e), mesh.face(2 * e + 1));
-        if f == NONE || g == NONE || cut_by[e as usize] != NONE {
-            continue;
-        }
-        let (a, b) = (find(&mut parent, f), find(&mut parent, g));
-        if a != b {
-            parent[a as usize] = b;
-        }
-    }
-    let mut id = vec![NONE; nf];
     let mut faces: Vec<FaceInfo> = Vec::new();
     let mut of_triangle = vec![NONE; nf];
+    let mut stack = Vec::new();
+    for t in 0..nf as u32 {
+        if of_triangle[t as usize] != NONE {
+            continue;
+        }
+        let id = faces.len() as u32;
+        faces.push(FaceInfo::default());
+        of_triangle[t as usize] = id;
+        stack.push(t);
+        while let Some(x) = stack.pop() {
+            for k in 0..3 {
+                let h = mesh.face_halfedge(x, k);
+                let y = mesh.face(mesh.twin(h));
+                if y != NONE && of_triangle[y as usize] == NONE && cut_by[mesh.edge(h) as usize] == NONE {
+                    of_triangle[y as usize] = id;
+                    stack.push(y);
+                }
+            }
+        }
+    }
     let areas = triangle_areas(mesh);
     let lengths = edge_lengths(mesh);
-    for t in 0..nf as u32 {
-        let r = find(&mut parent, t) as usize;
-        if id[r] == NONE {
-            id[r] = faces.len() as u32;
-            faces.push(FaceInfo::default());
-        }
-        of_triangle[t as usize] = id[r];
-        let f = &mut faces[id[r] as usize];
-        f.area += areas[t as usize];
+    for t in 0..nf {
+        let f = &mut faces[of_triangle[t] as usize];
+        f.area += areas[t];
         f.euler += 1;
     }
     // Edges: one per distinct face beside it.

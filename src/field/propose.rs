@@ -298,27 +298,27 @@ fn refine(
 ) -> (Layout, SurfaceLayout) {
     let Written { layout, surface, param, count_error, curve_miss } = first;
     let Some(mut score) = param.and_then(|p| solved_distortion(p, &surface)) else { return (layout, surface) };
-    let mut best = (g, layout, surface, count_error, curve_miss);
+    let mut best = Kept { graph: g, layout, surface, count_error, curve_miss };
     let h = default_edge_length(mesh);
     for _ in 0..REFINES {
-        let surface = &best.2;
+        let surface = &best.surface;
         let mut bad = faces_above(&score.face_area, &score.measured, h, SPLIT_RATIO, SPLIT_FLOOR);
         let weight = |f: usize| score.face_area[f] * score.measured.length_error[f];
         bad.sort_by(|&a, &b| weight(b).total_cmp(&weight(a)));
         let seeds: Vec<u32> = bad
             .iter()
             .filter_map(|&f| score.measured.worst_at[f].and_then(|at| nearest_vertex(mesh, surface, f as u32, at)))
-            .filter(|&v| !best.0.taken(v))
+            .filter(|&v| !best.graph.taken(v))
             .collect();
         // All the distorted faces at once, else the worst alone: splitting one face moves the
         // traces of its neighbours, and may cost more there than it gains.
         let split = |seeds: &[u32]| {
-            let mut trial = best.0.clone();
+            let mut trial = best.graph.clone();
             seed(mesh, field, &mut trial, seeds, diag);
             let mut left = seeds_left;
             let Written { layout, surface, param, count_error, curve_miss } = finish(mesh, field, &mut trial, options, diag, &mut left, true).ok()?;
             let s = solved_distortion(param?, &surface).filter(|s| s.mean < score.mean)?;
-            Some((s, (trial, layout, surface, count_error, curve_miss)))
+            Some((s, Kept { graph: trial, layout, surface, count_error, curve_miss }))
         };
         let tries: &[&[u32]] = if seeds.len() > 1 { &[&seeds, &seeds[..1]] } else { &[&seeds] };
         let improved = tries.iter().filter(|t| !t.is_empty()).find_map(|t| split(t));
@@ -332,8 +332,8 @@ fn refine(
         let mut merged = None;
         // Then the sides of the faces whose counts miss most (after the slivers: tried first,
         // they took the budget from slivers that mattered more, chaotically).
-        let mut candidates = sliver_sides(mesh, &best.0);
-        for s in missed_sides(&best.0, &best.2, &best.4) {
+        let mut candidates = sliver_sides(mesh, &best.graph);
+        for s in missed_sides(&best.graph, &best.surface, &best.curve_miss) {
             if !candidates.contains(&s) {
                 candidates.push(s);
             }
@@ -343,20 +343,30 @@ fn refine(
                 break;
             }
             tries -= 1;
-            let mut trial = best.0.clone();
+            let mut trial = best.graph.clone();
             trial.remove(s);
             let mut left = seeds_left;
             // Set up the parameterization (its checks) only for a removal that helps.
             let Ok(w) = finish(mesh, field, &mut trial, options, diag, &mut left, false) else { continue };
-            if w.count_error < best.3 && ParamSession::new(mesh, &w.surface, &ParamOptions::default()).is_ok() {
-                merged = Some((trial, w.layout, w.surface, w.count_error, w.curve_miss));
+            if w.count_error < best.count_error && ParamSession::new(mesh, &w.surface, &ParamOptions::default()).is_ok() {
+                merged = Some(Kept { graph: trial, layout: w.layout, surface: w.surface, count_error: w.count_error, curve_miss: w.curve_miss });
                 break;
             }
         }
         let Some(m) = merged else { break };
         best = m;
     }
-    (best.1, best.2)
+    (best.layout, best.surface)
+}
+
+/// The best layout [`refine`] has found so far, with the graph it was written from and its
+/// counts' measures (as [`Written`] gives them).
+struct Kept {
+    graph: CurveGraph,
+    layout: Layout,
+    surface: SurfaceLayout,
+    count_error: f64,
+    curve_miss: Vec<f64>,
 }
 
 /// The traces bounding the faces of the curves whose counts miss their wish most (by more

@@ -83,8 +83,9 @@ fn coefficient(row: &Row, col: usize) -> f64 {
     row.binary_search_by_key(&col, |e| e.0).map_or(0.0, |k| row[k].1)
 }
 
-/// `row - factor · pivot`, dropping entries that cancel exactly.
-fn subtract(row: &Row, factor: f64, pivot: &Row) -> Row {
+/// `row - factor · pivot`, dropping entries that cancel exactly; the columns it has that `row`
+/// had not are pushed to `gained`.
+fn subtract(row: &Row, factor: f64, pivot: &Row, gained: &mut Vec<usize>) -> Row {
     let mut out = Vec::with_capacity(row.len() + pivot.len());
     let (mut i, mut j) = (0, 0);
     loop {
@@ -104,7 +105,11 @@ fn subtract(row: &Row, factor: f64, pivot: &Row) -> Row {
             }
             (_, Some(&(b, y))) => {
                 j += 1;
-                (b, -factor * y)
+                let v = -factor * y;
+                if v != 0.0 {
+                    gained.push(b);
+                }
+                (b, v)
             }
         };
         if v != 0.0 {
@@ -126,16 +131,16 @@ fn eliminate(
     tolerance: f64,
 ) -> Vec<(usize, f64)> {
     let mut changed = Vec::new();
+    let mut gained = Vec::new();
     for s in targets {
         let factor = coefficient(&rows[s], col);
         if s == r || factor.abs() <= tolerance {
             continue;
         }
-        let updated = subtract(&rows[s], factor, pivot);
-        for &(c, _) in &updated {
-            if coefficient(&rows[s], c) == 0.0 {
-                by_col[c].push(s);
-            }
+        gained.clear();
+        let updated = subtract(&rows[s], factor, pivot, &mut gained);
+        for &c in &gained {
+            by_col[c].push(s);
         }
         rows[s] = updated;
         changed.push((s, factor));
