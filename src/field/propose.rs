@@ -321,15 +321,14 @@ fn refine(
             Some((s, Kept { graph: trial, layout, surface, count_error, curve_miss }))
         };
         let tries: &[&[u32]] = if seeds.len() > 1 { &[&seeds, &seeds[..1]] } else { &[&seeds] };
-        let improved = tries.iter().filter(|t| !t.is_empty()).find_map(|t| split(t));
-        let Some((s, better)) = improved else { break };
+        let tries: Vec<&[u32]> = tries.iter().copied().filter(|t| !t.is_empty()).collect();
+        let Some((s, better)) = first_some(&tries, |t| split(t)).0 else { break };
         score = s;
         best = better;
     }
     // Slivers: remove a long side of one while the counts come nearer what the curves ask for.
     let mut tries = MERGE_TRIES;
     while tries > 0 {
-        let mut merged = None;
         // Then the sides of the faces whose counts miss most (after the slivers: tried first,
         // they took the budget from slivers that mattered more, chaotically).
         let mut candidates = sliver_sides(mesh, &best.graph);
@@ -338,25 +337,50 @@ fn refine(
                 candidates.push(s);
             }
         }
-        for s in candidates {
-            if tries == 0 {
-                break;
-            }
-            tries -= 1;
+        let merge = |&s: &u32| {
             let mut trial = best.graph.clone();
             trial.remove(s);
             let mut left = seeds_left;
             // Set up the parameterization (its checks) only for a removal that helps.
-            let Ok(w) = finish(mesh, field, &mut trial, options, diag, &mut left, false) else { continue };
-            if w.count_error < best.count_error && ParamSession::new(mesh, &w.surface, &ParamOptions::default()).is_ok() {
-                merged = Some(Kept { graph: trial, layout: w.layout, surface: w.surface, count_error: w.count_error, curve_miss: w.curve_miss });
-                break;
-            }
-        }
+            let w = finish(mesh, field, &mut trial, options, diag, &mut left, false).ok()?;
+            let helps = w.count_error < best.count_error && ParamSession::new(mesh, &w.surface, &ParamOptions::default()).is_ok();
+            helps.then_some(Kept { graph: trial, layout: w.layout, surface: w.surface, count_error: w.count_error, curve_miss: w.curve_miss })
+        };
+        let (merged, tried) = first_some(&candidates[..candidates.len().min(tries)], merge);
+        tries -= tried;
         let Some(m) = merged else { break };
         best = m;
     }
     (best.layout, best.surface)
+}
+
+/// The first of `items` for which `f` gives something, and how many items that took (all of
+/// them when none did): the tries of [`refine`], in their order. Natively two tries run at a
+/// time, on two threads: each writes and solves a whole layout (about 0.1 s on bunny_28k), and
+/// most are refused. The answer is the one trying them one by one gives; a second try whose
+/// first succeeded is work thrown away.
+fn first_some<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> Option<R> + Sync) -> (Option<R>, usize) {
+    #[cfg(not(target_arch = "wasm32"))]
+    for (k, pair) in items.chunks(2).enumerate() {
+        let (a, b) = std::thread::scope(|scope| {
+            let second = pair.get(1).map(|x| scope.spawn(|| f(x)));
+            let a = f(&pair[0]);
+            (a, second.map(|t| t.join().ok().flatten()))
+        });
+        if a.is_some() {
+            return (a, 2 * k + 1);
+        }
+        if let Some(Some(b)) = b {
+            return (Some(b), 2 * k + 2);
+        }
+    }
+    #[cfg(target_arch = "wasm32")]
+    for (k, x) in items.iter().enumerate() {
+        if let Some(r) = f(x) {
+            return (Some(r), k + 1);
+        }
+    }
+    (None, items.len())
 }
 
 /// The best layout [`refine`] has found so far, with the graph it was written from and its
