@@ -358,14 +358,20 @@ fn refine(
 /// them when none did): the tries of [`refine`], in their order. Natively two tries run at a
 /// time, on two threads: each writes and solves a whole layout (about 0.1 s on bunny_28k), and
 /// most are refused. The answer is the one trying them one by one gives; a second try whose
-/// first succeeded is work thrown away.
+/// first succeeded is work thrown away. Where no thread can be started, the second try runs
+/// after the first; a panic in it is passed on as it would be without threads.
 fn first_some<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> Option<R> + Sync) -> (Option<R>, usize) {
     #[cfg(not(target_arch = "wasm32"))]
     for (k, pair) in items.chunks(2).enumerate() {
         let (a, b) = std::thread::scope(|scope| {
-            let second = pair.get(1).map(|x| scope.spawn(|| f(x)));
+            let second = pair.get(1).map(|x| (x, std::thread::Builder::new().spawn_scoped(scope, || f(x))));
             let a = f(&pair[0]);
-            (a, second.map(|t| t.join().ok().flatten()))
+            let b = second.map(|(x, spawned)| match spawned {
+                Ok(thread) => thread.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
+                Err(_) if a.is_none() => f(x),
+                Err(_) => None,
+            });
+            (a, b)
         });
         if a.is_some() {
             return (a, 2 * k + 1);
@@ -899,5 +905,22 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
             };
             Err(Rejected::Param(v, e))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::first_some;
+
+    /// The tries in pairs give what trying one by one gives: the first that helps, and how
+    /// many tries that took.
+    #[test]
+    fn first_some_is_the_first_in_order_with_the_tries_counted_one_by_one() {
+        let even = |&x: &u32| (x % 2 == 0).then_some(10 * x);
+        assert_eq!(first_some(&[1, 3, 4, 6, 7], even), (Some(40), 3));
+        assert_eq!(first_some(&[1, 2, 4], even), (Some(20), 2));
+        assert_eq!(first_some(&[2, 4], even), (Some(20), 1));
+        assert_eq!(first_some(&[1, 3, 5], even), (None, 3));
+        assert_eq!(first_some(&[] as &[u32], even), (None, 0));
     }
 }
