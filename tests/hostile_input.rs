@@ -276,3 +276,57 @@ fn a_report_to_a_closed_standard_output_is_an_error() {
     assert!(stderr.starts_with("error: ") && stderr.contains("standard output is closed"), "{stderr}");
     assert!(!out.exists(), "no quad mesh without its report");
 }
+
+/// Issue 22: the automatic layout of meshes too small, too thin or too odd for one, made
+/// here. Each gives a layout that `check` accepts, or exit status 2 and one `error:` line
+/// saying why, within seconds: never a panic, a hang, or a layout the reader refuses.
+#[test]
+fn the_automatic_layout_of_odd_meshes_is_a_layout_or_one_error_line() {
+    use common::{cube, grid, grid_with_hole, mesh_of, obj_text, torus, two_grids};
+    let strip = {
+        // 100:1, two triangles across.
+        let positions = (0..=100).flat_map(|i| [[i as f64, 0.0, 0.0], [i as f64, 1.0, 0.0]]).collect();
+        let triangles = (0..100).flat_map(|i| [[2 * i, 2 * i + 2, 2 * i + 3], [2 * i, 2 * i + 3, 2 * i + 1]]).collect();
+        mesh_of(positions, triangles)
+    };
+    let meshes = [
+        ("triangle", mesh_of(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]])),
+        (
+            "tetrahedron",
+            mesh_of(
+                vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
+            ),
+        ),
+        ("cube of 12 triangles", cube(1).0),
+        ("flat grid", grid(6)),
+        ("annulus", grid_with_hole(8, 3, 5)),
+        ("two components", two_grids(4)),
+        ("coarse torus", torus(8, 4)),
+        ("strip", strip),
+    ];
+    let dir = scratch("automatic_layout");
+    for (name, mesh) in meshes {
+        let path = dir.join(format!("{}.obj", name.replace(' ', "_")));
+        std::fs::write(&path, obj_text(&mesh)).unwrap();
+        let (mesh_path, out) = (path.to_string_lossy().into_owned(), path.with_extension("layout.json"));
+        let out = out.to_string_lossy().into_owned();
+        let (code, _, stderr) = common::within(std::time::Duration::from_secs(60), name, {
+            let (m, o) = (mesh_path.clone(), out.clone());
+            move || run_cli(&["layout", &m, "-o", &o])
+        });
+        match code {
+            0 => {
+                let (check, _, err) = run_cli(&["check", &mesh_path, "--layout", &out]);
+                assert_eq!(check, 0, "{name}: the layout written is refused: {err}");
+            }
+            2 => {
+                let lines: Vec<&str> = stderr.lines().collect();
+                assert!(lines.len() == 1 && lines[0].starts_with("error: "), "{name}: {stderr}");
+                assert!(!Path::new(&out).exists(), "{name}: a refused layout leaves no file");
+            }
+            _ => panic!("{name}: exit {code}: {stderr}"),
+        }
+        println!("{name}: exit {code} {}", stderr.trim());
+    }
+}
