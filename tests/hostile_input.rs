@@ -279,7 +279,8 @@ fn a_report_to_a_closed_standard_output_is_an_error() {
 
 /// Issue 22: the automatic layout of meshes too small, too thin or too odd for one, made
 /// here. Each gives a layout that `check` accepts, or exit status 2 and one `error:` line
-/// saying why, within seconds: never a panic, a hang, or a layout the reader refuses.
+/// saying why and what to do (these are all too coarse), within seconds: never a panic, a
+/// hang, or a layout the reader refuses.
 #[test]
 fn the_automatic_layout_of_odd_meshes_is_a_layout_or_one_error_line() {
     use common::{cube, grid, grid_with_hole, mesh_of, obj_text, torus, two_grids};
@@ -323,6 +324,8 @@ fn the_automatic_layout_of_odd_meshes_is_a_layout_or_one_error_line() {
             2 => {
                 let lines: Vec<&str> = stderr.lines().collect();
                 assert!(lines.len() == 1 && lines[0].starts_with("error: "), "{name}: {stderr}");
+                // What to do about it, too.
+                assert!(lines[0].contains("split its triangles"), "{name}: {stderr}");
                 assert!(!Path::new(&out).exists(), "{name}: a refused layout leaves no file");
             }
             _ => panic!("{name}: exit {code}: {stderr}"),

@@ -568,6 +568,15 @@ fn singular_vertices(mesh: &Mesh, field: &CrossField, g: &CurveGraph, cancel: f6
     out
 }
 
+/// A repair that ran out of mesh vertices, with what the user can do: faces need vertices
+/// inside and round them, and a mesh too coarse for the layout has too few. Splitting each
+/// triangle into four (twice where once is not enough) let the layout of the coarse meshes of
+/// `tests/hostile_input.rs` through: the 12-triangle cube, a 100:1 strip, a single triangle, an
+/// 8 × 4 torus.
+fn too_coarse(why: &str) -> String {
+    format!("{why}; the mesh is too coarse there: split its triangles (each into four) and try again")
+}
+
 /// One repair (see the module documentation); false when nothing needed repair.
 fn repair(
     mesh: &Mesh,
@@ -596,13 +605,13 @@ fn repair(
             // A ring of curves with nothing inside: drop one of its traces.
             let s = not_disk.iter().flat_map(|f| f.segments.iter()).find(|&&s| !g.segments[s as usize].feature);
             let Some(&s) = s else {
-                return Err("a face is not a disk and has no vertex inside to cut it from".into());
+                return Err(too_coarse("a face is not a disk and has no vertex inside to cut it from"));
             };
             g.remove(s);
             return Ok(true);
         }
         if *seeds_left == 0 {
-            return Err("a face is not a disk, and cutting it further did not help".into());
+            return Err(too_coarse("a face is not a disk, and cutting it further did not help"));
         }
         *seeds_left -= 1;
         seed(mesh, field, g, &seeds, diag);
@@ -618,14 +627,14 @@ fn repair(
         // A trace if there is one, else a feature line too short to hold quads.
         let s = f.segments.iter().copied().min_by_key(|&s| (g.segments[s as usize].feature, g.segments[s as usize].path.len()));
         let Some(s) = s else {
-            return Err("a face has no mesh vertex inside and no curve to remove".into());
+            return Err(too_coarse("a face has no mesh vertex inside and no curve to remove"));
         };
         g.remove(s);
         return Ok(true);
     }
     if let Some(f) = fa.faces.iter().find(|f| f.nodes.len() < 4) {
         let Some(v) = farthest_boundary_vertex(mesh, g, &fa.of_triangle, f, &fa.faces) else {
-            return Err("a face has fewer than four nodes and no room for more".into());
+            return Err(too_coarse("a face has fewer than four nodes and no room for more"));
         };
         g.add_node(v, true);
         return Ok(true);
