@@ -254,6 +254,7 @@ pub fn warnings(o: &Outcome) -> Vec<Warning> {
     if let Some(&worst) = stretched.first() {
         let (n, d) = (o.counts[worst], o.desired[worst]);
         let segments = if n == 1 { "segment" } else { "segments" };
+        let curves = if stretched.len() == 1 { "layout curve" } else { "layout curves" };
         let which = match o.layout.curves[worst].source {
             CurveSource::Edge(i) => format!("layout edge {i}"),
             CurveSource::Boundary { boundary_loop } => format!("a piece of boundary loop {boundary_loop}"),
@@ -261,7 +262,7 @@ pub fn warnings(o: &Outcome) -> Vec<Warning> {
         let mut w = Warning::new(
             "counts_stretched",
             format!(
-                "{} layout curves got segments more than {STRETCHED} times longer than their faces ask for (the \
+                "{} {curves} got segments more than {STRETCHED} times longer than their faces ask for (the \
                  worst, {which}: {n} {segments} where about {d:.1} were asked, quads about {:.1} times longer along \
                  it than across): opposite sides of a face must get equal counts, and the faces and T-vertices \
                  round these curves force it; move or remove a T-vertex there, or make the faces nearer \
