@@ -320,8 +320,11 @@ fn refine(
             let s = solved_distortion(param?, &surface).filter(|s| s.mean < score.mean)?;
             Some((s, Kept { graph: trial, layout, surface, count_error, curve_miss }))
         };
-        let tries: &[&[u32]] = if seeds.len() > 1 { &[&seeds, &seeds[..1]] } else { &[&seeds] };
-        let tries: Vec<&[u32]> = tries.iter().copied().filter(|t| !t.is_empty()).collect();
+        let tries: Vec<&[u32]> = match seeds.len() {
+            0 => Vec::new(),
+            1 => vec![&seeds],
+            _ => vec![&seeds, &seeds[..1]],
+        };
         let Some((s, better)) = first_some(&tries, |t| split(t)).0 else { break };
         score = s;
         best = better;

@@ -326,9 +326,7 @@ impl<'a> DualQp<'a> {
             let h = a.hypot(b);
             let (cos, sin) = (a / h, b / h);
             let (upper, lower) = self.r[m * k..(m + 2) * k].split_at_mut(k);
-            for (x, y) in upper[m..q - 1].iter_mut().zip(&mut lower[m..q - 1]) {
-                (*x, *y) = (cos * *x + sin * *y, -sin * *x + cos * *y);
-            }
+            rotate(&mut upper[m..q - 1], &mut lower[m..q - 1], cos, sin);
             self.rotate_j(m, cos, sin);
         }
         self.r.truncate((q - 1) * k);
@@ -338,11 +336,15 @@ impl<'a> DualQp<'a> {
     fn rotate_j(&mut self, m: usize, cos: f64, sin: f64) {
         let k = self.k;
         let (left, right) = self.j[m * k..(m + 2) * k].split_at_mut(k);
-        for (a, b) in left.iter_mut().zip(right) {
-            let (x, y) = (*a, *b);
-            *a = cos * x + sin * y;
-            *b = -sin * x + cos * y;
-        }
+        rotate(left, right, cos, sin);
+    }
+}
+
+/// `(a, b) ← (cos a + sin b, −sin a + cos b)` entry by entry: a Givens rotation of two rows of
+/// `R` or two columns of `J`, each stored along memory.
+fn rotate(a: &mut [f64], b: &mut [f64], cos: f64, sin: f64) {
+    for (x, y) in a.iter_mut().zip(b) {
+        (*x, *y) = (cos * *x + sin * *y, -sin * *x + cos * *y);
     }
 }
 
