@@ -13,7 +13,9 @@ pub mod faces;
 pub mod features;
 pub mod frames;
 pub mod graph;
+pub mod judge;
 pub mod propose;
+pub mod seamless;
 pub mod separatrix;
 pub mod singularities;
 pub mod slivers;
@@ -42,6 +44,9 @@ pub struct CrossField {
     pub z: Vec<Complex>,
     pub features: Features,
     pub singularities: Vec<Singularity>,
+    /// The directions of the field's seamless parameterization's iso-lines, per triangle
+    /// ([`seamless::iso_lines`]): what traces follow.
+    pub iso: seamless::IsoLines,
 }
 
 impl CrossField {
@@ -133,7 +138,10 @@ pub fn compute_field(mesh: &Mesh, feature_angle_deg: f64) -> Result<CrossField, 
     let fixed = line_constraints(mesh, &frames, &features);
     let z = cross::cross_field(mesh, &frames, &guide, &fixed, diag)?;
     let singularities = singularities(mesh, &frames, &z);
-    Ok(CrossField { frames, z, features, singularities })
+    let mut field = CrossField { frames, z, features, singularities, iso: seamless::IsoLines::default() };
+    // Without iso-lines (a failed factorization) traces follow the field itself.
+    field.iso = seamless::iso_lines(mesh, &field).unwrap_or_default();
+    Ok(field)
 }
 
 #[cfg(test)]

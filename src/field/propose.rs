@@ -4,10 +4,14 @@
 //!    cancel, and singularities on feature lines or the boundary are left to those lines.
 //! 2. Feature lines and the boundary (with nodes at its corners, at least four per loop)
 //!    are curves from the start.
-//! 3. Separatrices leave every singular vertex, and traces continue feature lines that end
-//!    inside a smooth region (tagged and kept like the lines, and continued again should a
-//!    repair take away what they ended on); they grow as a motorcycle graph of streamlines
-//!    across triangles, each kept as the vertex path nearest it ([`Motorcycles`]).
+//! 3. Separatrices leave every singular vertex (a cone of the field's seamless
+//!    parameterization where one is near), and traces continue feature lines that end inside
+//!    a smooth region (tagged and kept like the lines, and continued again, a few times at
+//!    most, should a repair take away what they ended on); they grow as a motorcycle graph of
+//!    streamlines across triangles, each kept as the vertex path nearest it ([`Motorcycles`]).
+//!    The whole proposal is made twice, the streamlines once along the field and once along
+//!    its parameterization's iso-lines ([`super::seamless`]), and the layout whose quads come
+//!    out better is kept ([`quad_score`]).
 //! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
 //!    not a disk (a handle, a sphere without singularities) gets a cross of traces from its
 //!    deepest vertex; dangling traces go; a face with no vertex inside loses a trace; a face
@@ -26,6 +30,8 @@
 
 use super::faces::{analyze, FaceInfo};
 use super::graph::CurveGraph;
+use super::judge::quad_score;
+use super::seamless::IsoLines;
 use super::separatrix::separatrix_directions;
 use super::slivers::sliver_sides;
 use super::trace::{Motorcycles, TraceEnd, BLOCKED};
@@ -120,6 +126,8 @@ const BOUNDARY_CORNER: f64 = PI / 4.0;
 const MAX_ROUNDS: usize = 400;
 /// Bound on the layouts written and refused (each costs a placement on the surface).
 const MAX_REJECTIONS: usize = 40;
+/// Bound on the continuations of one feature line's end ([`repair`]).
+const CONTINUATIONS: usize = 3;
 /// Bound on the rounds that add crosses of traces.
 const MAX_SEED_ROUNDS: usize = 40;
 /// Bound on the rounds that split the faces a short solve finds distorted ([`refine`]).
@@ -142,12 +150,60 @@ const MERGE_TRIES: usize = 12;
 /// repairs cannot make a layout that the reader accepts and that has consistent sample counts.
 pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
     let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
+    // Traces along the field, and along its parameterization's iso-lines: the layout whose
+    // quads come out better is kept ([`quad_score`]).
+    let along_field = CrossField { iso: IsoLines::default(), ..field.clone() };
+    let tracings: Vec<&CrossField> = if field.iso.arms.is_empty() { vec![&along_field] } else { vec![&along_field, &field] };
+    let proposals = both(&tracings, |f| {
+        let made = propose_along(mesh, f, options)?;
+        let score = quad_score(mesh, &made.1).unwrap_or(f64::INFINITY);
+        Ok::<_, ProposeError>((score, made))
+    });
+    let mut best: Option<(f64, (Layout, SurfaceLayout))> = None;
+    let mut error = None;
+    for p in proposals {
+        match p {
+            Ok((score, made)) => {
+                if best.as_ref().is_none_or(|b| score < b.0) {
+                    best = Some((score, made));
+                }
+            }
+            Err(e) => error = error.or(Some(e)),
+        }
+    }
+    match (best, error) {
+        (Some((_, (layout, surface))), _) => Ok(Proposal { layout, field, surface }),
+        (None, Some(e)) => Err(e),
+        (None, None) => Err(ProposeError::NoValidLayout("nothing was tried".into())),
+    }
+}
+
+/// `f` of every item: natively the second on a thread of its own, as [`first_some`] runs its
+/// tries (in wasm, one after the other).
+fn both<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    #[cfg(not(target_arch = "wasm32"))]
+    if let [a, b] = items {
+        return std::thread::scope(|scope| {
+            let second = std::thread::Builder::new().spawn_scoped(scope, || f(b));
+            let first = f(a);
+            let second = match second {
+                Ok(thread) => thread.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
+                Err(_) => f(b),
+            };
+            vec![first, second]
+        });
+    }
+    items.iter().map(f).collect()
+}
+
+/// The layout proposed with traces that follow `field` (its iso-lines where it has them).
+fn propose_along(mesh: &Mesh, field: &CrossField, options: &LayoutOptions) -> Result<(Layout, SurfaceLayout), ProposeError> {
     // From the singularities first; should that fail, from crosses of traces alone (the
     // singularities are then where the traces meet).
-    let first = attempt(mesh, &field, options, Some(CANCEL_DISTANCE));
+    let first = attempt(mesh, field, options, Some(CANCEL_DISTANCE));
     let (mut layout, mut surface) = match first {
         Ok(done) => done,
-        Err(why) => attempt(mesh, &field, options, None).map_err(|_| ProposeError::NoValidLayout(why))?,
+        Err(why) => attempt(mesh, field, options, None).map_err(|_| ProposeError::NoValidLayout(why))?,
     };
     // Fewer faces asked for than the singularities make: cancel pairs farther apart, keeping
     // the layout whose face count is nearest (by ratio) to the one asked.
@@ -159,13 +215,13 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
                 break;
             }
             distance *= 2.0;
-            let Ok((l, s)) = attempt(mesh, &field, options, Some(distance)) else { continue };
+            let Ok((l, s)) = attempt(mesh, field, options, Some(distance)) else { continue };
             if off(&s) < off(&surface) {
                 (layout, surface) = (l, s);
             }
         }
     }
-    Ok(Proposal { layout, field, surface })
+    Ok((layout, surface))
 }
 
 /// One construction of the layout; the reason it failed otherwise.
@@ -224,10 +280,11 @@ fn finish(
     set_up: bool,
 ) -> Result<Written, String> {
     let mut rejections = 0;
+    let mut tried = Tried::default();
     // Segments whose sparse waypoints let their curve meet another: written with every vertex.
     let mut dense = vec![false; g.segments.len()];
     for _ in 0..MAX_ROUNDS {
-        if repair(mesh, field, g, options.patches, diag, seeds_left)? {
+        if repair(mesh, field, g, options.patches, diag, seeds_left, &mut tried)? {
             continue;
         }
         dense.resize(g.segments.len(), false);
@@ -556,7 +613,9 @@ fn singular_vertices(mesh: &Mesh, field: &CrossField, g: &CurveGraph, cancel: f6
         // get a vertex, one ring apart, rather than the second being lost.
         let corners = mesh.triangles()[s.triangle as usize];
         let mut candidates: Vec<u32> = corners.iter().flat_map(|&v| std::iter::once(v).chain(mesh.neighbors(v))).collect();
-        candidates.sort_by(|&a, &b| norm(sub(mesh.position(a), c)).total_cmp(&norm(sub(mesh.position(b), c))));
+        // Cones of the seamless parameterization first: its iso-lines part there.
+        let cone = |v: u32| !field.iso.cone.get(v as usize).copied().unwrap_or(false);
+        candidates.sort_by(|&a, &b| cone(a).cmp(&cone(b)).then(norm(sub(mesh.position(a), c)).total_cmp(&norm(sub(mesh.position(b), c)))));
         let free = |v: u32| !used[v as usize] && !g.taken(v) && mesh.neighbors(v).all(|u| !used[u as usize]);
         let Some(&v) = candidates.iter().find(|&&v| free(v)) else {
             continue;
@@ -580,6 +639,14 @@ fn too_coarse(why: &str) -> String {
     format!("{why}; the mesh is too coarse there: split its triangles (each into four) and try again")
 }
 
+/// What [`repair`] has tried on one graph: the feature ends it continued (once per
+/// continuation) and the vertices it seeded faces that are not disks from.
+#[derive(Default)]
+struct Tried {
+    feature_ends: Vec<u32>,
+    seeds: Vec<u32>,
+}
+
 /// One repair (see the module documentation); false when nothing needed repair.
 fn repair(
     mesh: &Mesh,
@@ -588,12 +655,17 @@ fn repair(
     patches: Option<usize>,
     diag: f64,
     seeds_left: &mut usize,
+    tried: &mut Tried,
 ) -> Result<bool, String> {
     g.prune();
-    let ends = g.dangling_feature_ends(mesh);
+    let tries = |v: u32| tried.feature_ends.iter().filter(|&&c| c == v).count();
+    let ends: Vec<_> = g.dangling_feature_ends(mesh).into_iter().filter(|e| tries(e.0) < CONTINUATIONS).collect();
     if !ends.is_empty() && *seeds_left > 0 {
-        // A repair took away what a feature line ended on: continue it again.
+        // A repair took away what a feature line ended on: continue it again, a few times at
+        // most (a continuation that finds nothing to end on, or that the repairs take away
+        // every time, would spend every round of the seeds the faces that are not disks need).
         *seeds_left -= 1;
+        tried.feature_ends.extend(ends.iter().map(|e| e.0));
         let launches: Vec<Launch> = ends.iter().map(|&(v, d)| (v, d, true)).collect();
         grow(mesh, field, g, diag, &launches);
         if g.dangling_feature_ends(mesh).len() < ends.len() {
@@ -603,9 +675,11 @@ fn repair(
     let fa = analyze(mesh, g);
     let not_disk: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.euler != 1).collect();
     if !not_disk.is_empty() {
-        let seeds: Vec<u32> = not_disk.iter().filter_map(|f| f.deepest).collect();
+        // A seed whose traces all ended at once (the face is thin there) would only be tried
+        // again: it is not.
+        let seeds: Vec<u32> = not_disk.iter().filter_map(|f| f.deepest).filter(|v| !tried.seeds.contains(v)).collect();
         if seeds.is_empty() {
-            // A ring of curves with nothing inside: drop one of its traces.
+            // A ring of curves with nothing inside, or too thin to cut: drop one of its traces.
             let s = not_disk.iter().flat_map(|f| f.segments.iter()).find(|&&s| !g.segments[s as usize].feature);
             let Some(&s) = s else {
                 return Err(too_coarse("a face is not a disk and has no vertex inside to cut it from"));
@@ -617,6 +691,7 @@ fn repair(
             return Err(too_coarse("a face is not a disk, and cutting it further did not help"));
         }
         *seeds_left -= 1;
+        tried.seeds.extend(&seeds);
         seed(mesh, field, g, &seeds, diag);
         return Ok(true);
     }
@@ -922,7 +997,23 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
 
 #[cfg(test)]
 mod tests {
-    use super::first_some;
+    use super::*;
+    use crate::layout::curve::tests::load;
+
+    /// The layout kept is the better of the two tracings by its quads; on the genus-2 eight,
+    /// whose field spirals round its handles, the iso-lines' layout is the one kept.
+    #[test]
+    fn the_tracing_whose_quads_are_better_is_kept() {
+        let mesh = load("eight.obj");
+        let options = LayoutOptions::default();
+        let field = compute_field(&mesh, options.feature_angle).unwrap();
+        let along_field = CrossField { iso: IsoLines::default(), ..field.clone() };
+        let score = |f: &CrossField| quad_score(&mesh, &propose_along(&mesh, f, &options).unwrap().1).unwrap();
+        let (traced, iso) = (score(&along_field), score(&field));
+        assert!(iso < traced, "iso-lines {iso}, field {traced}");
+        let kept = propose_layout(&mesh, &options).unwrap();
+        assert_eq!(quad_score(&mesh, &kept.surface), Some(iso));
+    }
 
     /// The tries in pairs give what trying one by one gives: the first that helps, and how
     /// many tries that took.

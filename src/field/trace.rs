@@ -3,7 +3,8 @@
 //!
 //! A trace walks across triangles: in each it goes straight along the field, the arm of each
 //! corner's cross nearest the trace's heading blended by the entry point's barycentric
-//! weights, to the triangle's boundary, and on into the next triangle. Of every mesh edge it
+//! weights (or, where the field has them, the triangle's iso-line direction nearest the
+//! heading: [`super::seamless`]), to the triangle's boundary, and on into the next triangle. Of every mesh edge it
 //! crosses, the nearer end joins the trace's vertex path; consecutive such vertices share a
 //! triangle, so the path runs along mesh edges, within half an edge of the streamline, and
 //! the streamline does not drift as a walk from vertex to vertex does (the next vertex's
@@ -15,7 +16,7 @@
 
 use super::frames::tangential;
 use super::CrossField;
-use crate::geom::{cross, dot, norm, sub, unit, Vec3};
+use crate::geom::{cross, dot, norm, scale, sub, unit, Vec3};
 use crate::mesh::{Mesh, NONE};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -178,6 +179,9 @@ impl<'a> Motorcycles<'a> {
     /// The field's direction in triangle `f` at `point`, nearest `heading`: each corner's arm
     /// nearest it, blended by barycentric weight, in the triangle's plane.
     fn direction(&self, f: u32, point: Vec3, heading: Vec3, n: Vec3) -> Vec3 {
+        if let Some(d) = self.iso_direction(f, heading) {
+            return d;
+        }
         let corners = self.mesh.triangles()[f as usize];
         let p = corners.map(|v| self.mesh.position(v));
         let area = |a: Vec3, b: Vec3, c: Vec3| dot(cross(sub(b, a), sub(c, a)), n).max(0.0);
@@ -200,12 +204,22 @@ impl<'a> Motorcycles<'a> {
         }
     }
 
+    /// The iso-line direction of triangle `f` nearest `heading`, if the field has them there.
+    fn iso_direction(&self, f: u32, heading: Vec3) -> Option<Vec3> {
+        let [du, dv] = (*self.field.iso.arms.get(f as usize)?)?;
+        [du, dv, scale(-1.0, du), scale(-1.0, dv)].into_iter().max_by(|a, b| dot(*a, heading).total_cmp(&dot(*b, heading)))
+    }
+
     /// One step of walker `w` across its triangle: the walker in the next triangle and the
     /// nearer end of the mesh edge it crossed (or the vertex it ran through); `None` where
     /// the trace ends (a degenerate triangle, no way on).
     fn step(&self, w: &Walker) -> Option<(Walker, Option<u32>)> {
         let mesh = self.mesh;
-        let f = w.face;
+        // On a vertex, the triangle its iso-line leaves into (the heading's may hold none).
+        let f = match (w.vertex, self.iso_direction(w.face, w.heading)) {
+            (v, Some(d)) if v != NONE && w.steps > 0 => self.sector(v, d).unwrap_or(w.face),
+            _ => w.face,
+        };
         let p = mesh.triangles()[f as usize].map(|v| mesh.position(v));
         let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
         if norm(n) < 1e-300 {
@@ -214,9 +228,12 @@ impl<'a> Motorcycles<'a> {
         let n = unit(n);
         let heading = unit(tangential(w.heading, n));
         // Leaving the start vertex, the launch direction (the field has no direction at a
-        // singularity); at a vertex run through, its cross's arm; else the field's blend.
+        // singularity); then the triangle's iso-line if it has one; at a vertex run through,
+        // its cross's arm; else the field's blend.
         let d = if w.steps == 0 {
             heading
+        } else if let Some(d) = self.iso_direction(f, heading) {
+            d
         } else if w.vertex != NONE {
             let arms = self.field.arms(w.vertex).map(|a| tangential(a, n));
             arms.into_iter().max_by(|a, b| dot(*a, heading).total_cmp(&dot(*b, heading))).map_or(heading, unit)

@@ -1069,7 +1069,7 @@ fn chords_meet(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::mesh::{build_mesh, TriangleSoup};
 
@@ -1112,7 +1112,8 @@ mod tests {
         crate::mesh::primitives::parallelepiped([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], n)
     }
 
-    fn load(name: &str) -> Mesh {
+    /// A mesh of `../shared/meshes`.
+    pub(crate) fn load(name: &str) -> Mesh {
         let path = format!("{}/../shared/meshes/{name}", env!("CARGO_MANIFEST_DIR"));
         let bytes = std::fs::read(&path).unwrap();
         crate::io::read_mesh(&bytes, &path).unwrap().mesh
