@@ -4,11 +4,12 @@
 //! A trace walks across triangles: in each it goes straight along the field, the arm of each
 //! corner's cross nearest the trace's heading blended by the entry point's barycentric
 //! weights (or, where the field has them, the triangle's iso-line direction nearest the
-//! heading: [`super::seamless`]), to the triangle's boundary, and on into the next triangle. Of every mesh edge it
-//! crosses, the nearer end joins the trace's vertex path; consecutive such vertices share a
-//! triangle, so the path runs along mesh edges, within half an edge of the streamline, and
-//! the streamline does not drift as a walk from vertex to vertex does (the next vertex's
-//! direction always a neighbour's, up to 30° off the field on a coarse mesh).
+//! heading: [`super::seamless`]), to the triangle's boundary, and on into the next triangle.
+//! Of every mesh edge it crosses, the nearer end joins the trace's vertex path; consecutive
+//! such vertices share a triangle, so the path runs along mesh edges, within half an edge of
+//! the streamline, and the streamline does not drift as a walk from vertex to vertex does
+//! (the next vertex's direction always a neighbour's, up to 30° off the field on a coarse
+//! mesh).
 //! Paths of mesh edges that share no vertex cannot cross, so the layout curves made from
 //! them meet only where a trace ends on another: the motorcycle rule. All traces grow in the
 //! order of their length; a trace stops on the first vertex that is already taken (another
