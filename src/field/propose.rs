@@ -126,8 +126,6 @@ const BOUNDARY_CORNER: f64 = PI / 4.0;
 const MAX_ROUNDS: usize = 400;
 /// Bound on the layouts written and refused (each costs a placement on the surface).
 const MAX_REJECTIONS: usize = 40;
-/// Bound on the continuations of one feature line's end ([`repair`]).
-const CONTINUATIONS: usize = 3;
 /// Bound on the rounds that add crosses of traces.
 const MAX_SEED_ROUNDS: usize = 40;
 /// Bound on the rounds that split the faces a short solve finds distorted ([`refine`]).
@@ -639,11 +637,10 @@ fn too_coarse(why: &str) -> String {
     format!("{why}; the mesh is too coarse there: split its triangles (each into four) and try again")
 }
 
-/// What [`repair`] has tried on one graph: the feature ends it continued (once per
-/// continuation) and the vertices it seeded faces that are not disks from.
+/// What [`repair`] has tried on one graph: the vertices it seeded faces that are not disks
+/// from.
 #[derive(Default)]
 struct Tried {
-    feature_ends: Vec<u32>,
     seeds: Vec<u32>,
 }
 
@@ -658,14 +655,10 @@ fn repair(
     tried: &mut Tried,
 ) -> Result<bool, String> {
     g.prune();
-    let tries = |v: u32| tried.feature_ends.iter().filter(|&&c| c == v).count();
-    let ends: Vec<_> = g.dangling_feature_ends(mesh).into_iter().filter(|e| tries(e.0) < CONTINUATIONS).collect();
+    let ends = g.dangling_feature_ends(mesh);
     if !ends.is_empty() && *seeds_left > 0 {
-        // A repair took away what a feature line ended on: continue it again, a few times at
-        // most (a continuation that finds nothing to end on, or that the repairs take away
-        // every time, would spend every round of the seeds the faces that are not disks need).
+        // A repair took away what a feature line ended on: continue it again.
         *seeds_left -= 1;
-        tried.feature_ends.extend(ends.iter().map(|e| e.0));
         let launches: Vec<Launch> = ends.iter().map(|&(v, d)| (v, d, true)).collect();
         grow(mesh, field, g, diag, &launches);
         if g.dangling_feature_ends(mesh).len() < ends.len() {
