@@ -90,9 +90,10 @@ fn shared_meshes_get_valid_layouts_and_quads() {
             failures.push(format!("{name}: {got} quads where {asked:.0} were asked"));
         }
         // Near the surface: within the verdict's bar for a miss (fandisk's first proposal
-        // missed by 8.2 %; the refinement by a short solve splits its distorted faces). Not on
-        // eight, whose 315 vertices are too few for vertex paths that follow the field.
-        if q.hausdorff > MISSED_DIAGONAL && name != "eight.obj" {
+        // missed by 8.2 %; the refinement by a short solve splits its distorted faces). Eight,
+        // whose 315 vertices are few for vertex paths, missed by 5.3 % with streamlines of the
+        // field; its iso-lines' layout misses by 1.3 %.
+        if q.hausdorff > MISSED_DIAGONAL {
             failures.push(format!("{name}: the quads miss the surface by {:.1} % of the diagonal", 100.0 * q.hausdorff));
         }
     }
