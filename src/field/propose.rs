@@ -39,7 +39,7 @@ use super::waypoints::sparse_waypoints;
 use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
-use crate::layout::{curve, place, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout, MAX_WAYPOINTS};
+use crate::layout::{curve, face_named_by, place, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout, MAX_WAYPOINTS};
 use crate::geom::{norm, sub, Vec3};
 use crate::mesh::geometry::corner_angle;
 use crate::mesh::topology::topology;
@@ -928,16 +928,11 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
     // 17 -> 13; nefertiti 0.81 -> 2.37 %, 28.0 -> 23.9°. The user re-charts a face at will.
     let specs: Vec<PatchSpec> =
         surface.faces.iter().map(|f| PatchSpec { corners: corners_of(mesh, field, &surface, f), chart: Some(ChartType::Rect) }).collect();
-    // A patches entry names its face by its corners; where two faces share all four (a
-    // torus cut into two rings of faces), neither can be named, and both keep the reader's
-    // corners and the default chart.
-    let key = |p: &PatchSpec| {
-        let mut c = p.corners;
-        c.sort_unstable();
-        c
-    };
-    for p in &specs {
-        if specs.iter().filter(|q| key(q) == key(p)).count() == 1 {
+    // A patches entry names the first face with its four corners counter-clockwise round it;
+    // where that is another face (a torus cut into two rings of faces: both have all four),
+    // the face keeps the reader's corners and the default chart.
+    for (fi, p) in specs.iter().enumerate() {
+        if face_named_by(surface.faces.iter().map(|f| &f.nodes[..]), &p.corners).0 == Some(fi) {
             layout.patches.push(p.clone());
         }
     }

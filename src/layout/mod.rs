@@ -488,25 +488,30 @@ fn check_meetings(mesh: &Mesh, curves: &[LayoutCurve], node_vertex: &[u32]) -> R
     Ok(())
 }
 
+/// The first face (of faces given by their nodes in order round them) with the four
+/// `corners` among its nodes counter-clockwise: the face a `patches` entry names; and whether
+/// some face has them all, in whatever order.
+pub fn face_named_by<'a>(faces: impl Iterator<Item = &'a [u32]>, corners: &[u32; 4]) -> (Option<usize>, bool) {
+    let mut on_boundary = false;
+    for (fi, nodes) in faces.enumerate() {
+        let pos: Option<Vec<usize>> = corners.iter().map(|c| nodes.iter().position(|n| n == c)).collect();
+        let Some(pos) = pos else { continue };
+        on_boundary = true;
+        // Counter-clockwise: positions increase cyclically from the first corner.
+        let rel: Vec<usize> = pos.iter().map(|&k| (k + nodes.len() - pos[0]) % nodes.len()).collect();
+        if rel.windows(2).all(|w| w[0] < w[1]) {
+            return (Some(fi), true);
+        }
+    }
+    (None, on_boundary)
+}
+
 /// Corners per face: from the file's `patches` entry, else the four nodes with the
 /// smallest interior angle; and the chart type.
 fn choose_corners(layout: &Layout, traced: Vec<embedding::TracedFace>) -> Result<Vec<Face>, LayoutError> {
     let mut entry_of = vec![None; traced.len()];
     for (p, spec) in layout.patches.iter().enumerate() {
-        let mut on_boundary = false;
-        let mut counter_clockwise = None;
-        for (fi, f) in traced.iter().enumerate() {
-            let pos: Option<Vec<usize>> =
-                spec.corners.iter().map(|c| f.nodes.iter().position(|n| n == c)).collect();
-            let Some(pos) = pos else { continue };
-            on_boundary = true;
-            // Counter-clockwise: positions increase cyclically from the first corner.
-            let rel: Vec<usize> = pos.iter().map(|&k| (k + f.nodes.len() - pos[0]) % f.nodes.len()).collect();
-            if rel.windows(2).all(|w| w[0] < w[1]) {
-                counter_clockwise = Some(fi);
-                break;
-            }
-        }
+        let (counter_clockwise, on_boundary) = face_named_by(traced.iter().map(|f| &f.nodes[..]), &spec.corners);
         let reason = match (counter_clockwise, on_boundary) {
             (Some(fi), _) if entry_of[fi].is_none() => {
                 entry_of[fi] = Some(p);
@@ -553,6 +558,18 @@ fn choose_corners(layout: &Layout, traced: Vec<embedding::TracedFace>) -> Result
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A `patches` entry names the first face that has its corners counter-clockwise (in
+    /// any rotation), not one that has them in another order.
+    #[test]
+    fn a_patches_entry_names_the_first_face_with_its_corners_in_order() {
+        let faces: [&[u32]; 2] = [&[5, 0, 1, 2, 3], &[2, 3, 7, 0, 1]];
+        assert_eq!(face_named_by(faces.into_iter(), &[0, 1, 2, 3]), (Some(0), true));
+        assert_eq!(face_named_by(faces.into_iter(), &[2, 3, 0, 1]), (Some(0), true));
+        assert_eq!(face_named_by(faces.into_iter(), &[7, 0, 1, 2]), (Some(1), true));
+        assert_eq!(face_named_by(faces.into_iter(), &[3, 2, 1, 0]), (None, true));
+        assert_eq!(face_named_by(faces.into_iter(), &[0, 1, 2, 9]), (None, false));
+    }
 
     /// A run's default chart type replaces the layout's default, never a `patches` entry's.
     #[test]
