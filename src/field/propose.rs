@@ -31,7 +31,7 @@
 use super::faces::{analyze, FaceInfo};
 use super::graph::CurveGraph;
 use super::judge::quad_score;
-use super::seamless::IsoLines;
+use super::seamless::{iso_lines_scaled, IsoLines};
 use super::separatrix::separatrix_directions;
 use super::slivers::sliver_sides;
 use super::trace::{Motorcycles, TraceEnd, BLOCKED};
@@ -112,6 +112,9 @@ impl fmt::Display for ProposeError {
 
 impl std::error::Error for ProposeError {}
 
+/// Solves of the seamless parameterization that ask for the scale the one before took
+/// ([`iso_lines_scaled`]): the third tracing.
+const SCALE_ROUNDS: usize = 3;
 /// Opposite singularities closer than this fraction of the diagonal cancel...
 const CANCEL_DISTANCE: f64 = 0.03;
 /// ... or, where `--patches` asks for fewer faces than that makes (more than this many times
@@ -148,11 +151,13 @@ const MERGE_TRIES: usize = 12;
 /// repairs cannot make a layout that the reader accepts and that has consistent sample counts.
 pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
     let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
-    // Traces along the field, and along its parameterization's iso-lines: the layout whose
-    // quads come out better is kept ([`quad_score`]).
+    // Traces along the field, and along the iso-lines of its seamless parameterization at
+    // unit scale and at the scale it takes: the layout whose quads come out best is kept
+    // ([`quad_score`]).
     let along_field = CrossField { iso: IsoLines::default(), ..field.clone() };
-    let tracings: Vec<&CrossField> = if field.iso.arms.is_empty() { vec![&along_field] } else { vec![&along_field, &field] };
-    let proposals = both(&tracings, |f| {
+    let scaled = CrossField { iso: iso_lines_scaled(mesh, &field, SCALE_ROUNDS).unwrap_or_default(), ..field.clone() };
+    let tracings: Vec<&CrossField> = [&along_field, &field, &scaled].into_iter().filter(|f| std::ptr::eq(*f, &along_field) || !f.iso.arms.is_empty()).collect();
+    let proposals = at_once(&tracings, |f| {
         let made = propose_along(mesh, f, options)?;
         let score = quad_score(mesh, &made.1).unwrap_or(f64::INFINITY);
         Ok::<_, ProposeError>((score, made))
@@ -176,19 +181,22 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
     }
 }
 
-/// `f` of every item: natively the second on a thread of its own, as [`first_some`] runs its
-/// tries (in wasm, one after the other).
-fn both<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+/// `f` of every item, in order: natively each after the first on a thread of its own, as
+/// [`first_some`] runs its tries (in wasm, one after the other).
+fn at_once<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     #[cfg(not(target_arch = "wasm32"))]
-    if let [a, b] = items {
+    if let [first, rest @ ..] = items {
+        let f = &f;
         return std::thread::scope(|scope| {
-            let second = std::thread::Builder::new().spawn_scoped(scope, || f(b));
-            let first = f(a);
-            let second = match second {
-                Ok(thread) => thread.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
-                Err(_) => f(b),
-            };
-            vec![first, second]
+            let others: Vec<_> = rest.iter().map(|x| (x, std::thread::Builder::new().spawn_scoped(scope, move || f(x)))).collect();
+            let mut out = vec![f(first)];
+            for (x, spawned) in others {
+                out.push(match spawned {
+                    Ok(thread) => thread.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
+                    Err(_) => f(x),
+                });
+            }
+            out
         });
     }
     items.iter().map(f).collect()
@@ -988,19 +996,20 @@ mod tests {
     use super::*;
     use crate::layout::curve::tests::load;
 
-    /// The layout kept is the better of the two tracings by its quads; on the genus-2 eight,
-    /// whose field spirals round its handles, the iso-lines' layout is the one kept.
+    /// The layout kept is the best of the three tracings by its quads; on the genus-2 eight,
+    /// whose field spirals round its handles, an iso-line layout is the one kept.
     #[test]
-    fn the_tracing_whose_quads_are_better_is_kept() {
+    fn the_tracing_whose_quads_are_best_is_kept() {
         let mesh = load("eight.obj");
         let options = LayoutOptions::default();
         let field = compute_field(&mesh, options.feature_angle).unwrap();
         let along_field = CrossField { iso: IsoLines::default(), ..field.clone() };
+        let scaled = CrossField { iso: iso_lines_scaled(&mesh, &field, SCALE_ROUNDS).unwrap(), ..field.clone() };
         let score = |f: &CrossField| quad_score(&mesh, &propose_along(&mesh, f, &options).unwrap().1).unwrap();
-        let (traced, iso) = (score(&along_field), score(&field));
-        assert!(iso < traced, "iso-lines {iso}, field {traced}");
+        let (traced, iso, iso_scaled) = (score(&along_field), score(&field), score(&scaled));
+        assert!(iso.min(iso_scaled) < traced, "iso-lines {iso} and {iso_scaled}, field {traced}");
         let kept = propose_layout(&mesh, &options).unwrap();
-        assert_eq!(quad_score(&mesh, &kept.surface), Some(iso));
+        assert_eq!(quad_score(&mesh, &kept.surface), Some(traced.min(iso).min(iso_scaled)));
     }
 
     /// The tries in pairs give what trying one by one gives: the first that helps, and how

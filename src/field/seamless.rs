@@ -21,6 +21,11 @@
 //!    turn on; across a cut edge the two sides' differences along it must agree up to the
 //!    rotation by `k` (a heavy penalty: seamless up to a translation per cut).
 //! 4. Per triangle, the directions in which `v` and `u` stay constant.
+//!
+//! [`iso_lines_scaled`] solves again with each triangle's arms as long as the gradients of the
+//! solve before (the same factor, a new right-hand side): a second parameterization whose
+//! seams and shear fall elsewhere. Neither wins everywhere; [`super::judge`] keeps the better
+//! layout.
 
 use super::frames::wrap;
 use super::{Complex, CrossField};
@@ -74,21 +79,20 @@ impl FaceFrame {
 /// # Errors
 /// [`SolveError`] if the sparse factorization fails (a degenerate mesh).
 pub fn iso_lines(mesh: &Mesh, field: &CrossField) -> Result<IsoLines, SolveError> {
+    iso_lines_scaled(mesh, field, 1)
+}
+
+/// [`iso_lines`] after `rounds` solves, each asking for the scale the one before took.
+pub fn iso_lines_scaled(mesh: &Mesh, field: &CrossField, rounds: usize) -> Result<IsoLines, SolveError> {
     let frames: Vec<Option<FaceFrame>> = (0..mesh.n_faces()).map(|f| FaceFrame::new(corners(mesh, f))).collect();
     let matched = match_arms(mesh, field, &frames);
     let (cut, cone) = cut_graph(mesh, &matched);
     let (wedge, wedges) = wedges(mesh, &cut);
-    let x = solve(mesh, &frames, &matched, &cut, &wedge, wedges)?;
+    let x = solve(mesh, &frames, &matched, &cut, &wedge, wedges, rounds)?;
     let arms = (0..mesh.n_faces())
         .map(|f| {
             let fr = frames[f].as_ref()?;
-            let g = gradients(fr, corners(mesh, f));
-            let (mut gu, mut gv) = ([0.0; 3], [0.0; 3]);
-            for i in 0..3 {
-                let w = wedge[3 * f + i] as usize;
-                gu = add(gu, scale(x[2 * w], g[i]));
-                gv = add(gv, scale(x[2 * w + 1], g[i]));
-            }
+            let (gu, gv) = gradient_of(&x, &wedge, f, gradients(fr, corners(mesh, f)));
             // Folded (or flat) where the gradients turn the wrong way round.
             (dot(cross(gu, gv), fr.n) > 0.0).then(|| [unit(cross(gv, fr.n)), unit(cross(fr.n, gu))])
         })
@@ -251,7 +255,7 @@ fn wedges(mesh: &Mesh, cut: &[bool]) -> (Vec<u32>, usize) {
 
 /// `(u, v)` of every wedge (unknowns `2w`, `2w + 1`): the least-squares fit of the gradients to
 /// the arms, with the seams as heavy penalties.
-fn solve(mesh: &Mesh, frames: &[Option<FaceFrame>], m: &Matched, cut: &[bool], wedge: &[u32], wedges: usize) -> Result<Vec<f64>, SolveError> {
+fn solve(mesh: &Mesh, frames: &[Option<FaceFrame>], m: &Matched, cut: &[bool], wedge: &[u32], wedges: usize, rounds: usize) -> Result<Vec<f64>, SolveError> {
     let n = 2 * wedges;
     let mut entries: Vec<(u32, u32)> = Vec::new();
     let mut values: Vec<f64> = Vec::new();
@@ -265,12 +269,8 @@ fn solve(mesh: &Mesh, frames: &[Option<FaceFrame>], m: &Matched, cut: &[bool], w
         let p = corners(mesh, f);
         let g = gradients(fr, p);
         let area = norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))) / 2.0;
-        let a = fr.direction(m.arm[f]);
-        let b = cross(fr.n, a);
         for i in 0..3 {
             let wi = wedge[3 * f + i] as usize;
-            x[2 * wi] += area * dot(g[i], a);
-            x[2 * wi + 1] += area * dot(g[i], b);
             for j in 0..=i {
                 let wj = wedge[3 * f + j] as usize;
                 // Two corners in one wedge (a degenerate fan): their product counts twice.
@@ -325,8 +325,47 @@ fn solve(mesh: &Mesh, frames: &[Option<FaceFrame>], m: &Matched, cut: &[bool], w
     }
     let mut solver = SpdSolver::new(n, &entries)?;
     solver.factor(&values)?;
-    solver.solve_in_place(&mut x)?;
+    // Per triangle, the scale asked for: 1 at first, then the scale the solve before took.
+    let mut scales = vec![1.0; frames.len()];
+    for round in 0..rounds.max(1) {
+        x.iter_mut().for_each(|v| *v = 0.0);
+        for (f, fr) in frames.iter().enumerate() {
+            let Some(fr) = fr else { continue };
+            let p = corners(mesh, f);
+            let g = gradients(fr, p);
+            let weight = norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))) / 2.0 * scales[f];
+            let a = fr.direction(m.arm[f]);
+            let b = cross(fr.n, a);
+            for i in 0..3 {
+                let wi = wedge[3 * f + i] as usize;
+                x[2 * wi] += weight * dot(g[i], a);
+                x[2 * wi + 1] += weight * dot(g[i], b);
+            }
+        }
+        solver.solve_in_place(&mut x)?;
+        if round + 1 < rounds {
+            for (f, fr) in frames.iter().enumerate() {
+                let Some(fr) = fr else { continue };
+                let (gu, gv) = gradient_of(&x, wedge, f, gradients(fr, corners(mesh, f)));
+                let scale = (norm(gu) * norm(gv)).sqrt();
+                if scale.is_finite() && scale > 0.0 {
+                    scales[f] = scale;
+                }
+            }
+        }
+    }
     Ok(x)
+}
+
+/// The gradients of `u` and `v` in triangle `f`, `g` its hat functions' gradients.
+fn gradient_of(x: &[f64], wedge: &[u32], f: usize, g: [Vec3; 3]) -> (Vec3, Vec3) {
+    let (mut gu, mut gv) = ([0.0; 3], [0.0; 3]);
+    for i in 0..3 {
+        let w = wedge[3 * f + i] as usize;
+        gu = add(gu, scale(x[2 * w], g[i]));
+        gv = add(gv, scale(x[2 * w + 1], g[i]));
+    }
+    (gu, gv)
 }
 
 #[cfg(test)]
@@ -342,6 +381,7 @@ mod tests {
         let worst = iso.arms.iter().flatten().map(|[u, v]| (crate::geom::angle(*u, *v).to_degrees() - 90.0).abs()).fold(0.0, f64::max);
         (worst, iso.arms.iter().filter(|a| a.is_none()).count())
     }
+
 
     /// On a plane the field is constant (aligned to the boundary), and so is the gradient that
     /// fits it: the iso-lines are the field's own lines, at right angles, with no cone.
@@ -374,13 +414,18 @@ mod tests {
 
     /// A torus of revolution needs no cone. Its field follows the parallels and meridians, but
     /// at unit length it is not a gradient (a parallel's length changes round the tube), so
-    /// the fit shears a little: a few degrees at most.
+    /// the fit shears a little, with or without the scale of the solve before.
     #[test]
     fn a_torus_has_no_cone_and_nearly_right_angles() {
         let mesh = torus(48, 16, 1.0, 0.35);
         let field = compute_field(&mesh, 35.0).unwrap();
         assert!(field.iso.cone.iter().all(|&c| !c));
         let (shear, folded) = worst_shear(&field.iso);
+        assert_eq!(folded, 0);
+        assert!(shear < 5.0, "{shear}");
+        let scaled = iso_lines_scaled(&mesh, &field, 3).unwrap();
+        assert!(scaled.cone.iter().all(|&c| !c));
+        let (shear, folded) = worst_shear(&scaled);
         assert_eq!(folded, 0);
         assert!(shear < 5.0, "{shear}");
     }
