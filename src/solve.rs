@@ -623,6 +623,20 @@ pub fn solve_lu(n: usize, entries: &[(u32, u32)], values: &[f64], b: &mut [f64])
     Ok(())
 }
 
+
+/// A sparse row of (column, coefficient) in column order, each column once: the coefficients
+/// of a column named more than once summed.
+pub fn sum_duplicates(row: &mut Vec<(usize, f64)>) {
+    row.sort_by_key(|e| e.0);
+    row.dedup_by(|later, kept| {
+        let same = later.0 == kept.0;
+        if same {
+            kept.1 += later.1;
+        }
+        same
+    });
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

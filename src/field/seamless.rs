@@ -31,7 +31,7 @@ use super::frames::wrap;
 use super::{Complex, CrossField};
 use crate::geom::{add, cross, dot, norm, scale, sub, unit, Vec3};
 use crate::mesh::{Mesh, NONE};
-use crate::solve::{SolveError, SpdSolver};
+use crate::solve::{sum_duplicates, SolveError, SpdSolver};
 use std::f64::consts::FRAC_PI_2;
 
 /// Weight of a seam equation against the field's fit (dimensionless; both are lengths squared
@@ -301,14 +301,7 @@ fn solve(mesh: &Mesh, frames: &[Option<FaceFrame>], m: &Matched, cut: &[bool], w
                 }
             }
             // One coefficient per unknown (at a cut's end both sides are one wedge).
-            terms.sort_by_key(|t| t.0);
-            terms.dedup_by(|t, kept| {
-                let same = t.0 == kept.0;
-                if same {
-                    kept.1 += t.1;
-                }
-                same
-            });
+            sum_duplicates(&mut terms);
             for (k, &(i, ci)) in terms.iter().enumerate() {
                 for &(j, cj) in &terms[..=k] {
                     add(i, j, SEAM_WEIGHT * ci * cj);

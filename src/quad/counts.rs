@@ -265,14 +265,7 @@ fn sparse_rows(equations: &[Equation]) -> Vec<Row> {
         .iter()
         .map(|eq| {
             let mut row: Row = eq.iter().map(|&(c, k)| (c as usize, k as f64)).collect();
-            row.sort_by_key(|e| e.0);
-            row.dedup_by(|a, b| {
-                let same = a.0 == b.0;
-                if same {
-                    b.1 += a.1;
-                }
-                same
-            });
+            crate::solve::sum_duplicates(&mut row);
             row.retain(|e| e.1 != 0.0);
             row
         })
