@@ -44,8 +44,9 @@ pub struct CrossField {
     pub z: Vec<Complex>,
     pub features: Features,
     pub singularities: Vec<Singularity>,
-    /// The directions of the field's seamless parameterization's iso-lines, per triangle
-    /// ([`seamless::iso_lines`]): what traces follow.
+    /// Iso-lines of a seamless parameterization of the field ([`seamless::iso_lines`]) for
+    /// traces to follow instead of the field; empty (the field itself) unless the automatic
+    /// layout sets them.
     pub iso: seamless::IsoLines,
 }
 
@@ -138,10 +139,7 @@ pub fn compute_field(mesh: &Mesh, feature_angle_deg: f64) -> Result<CrossField, 
     let fixed = line_constraints(mesh, &frames, &features);
     let z = cross::cross_field(mesh, &frames, &guide, &fixed, diag)?;
     let singularities = singularities(mesh, &frames, &z);
-    let mut field = CrossField { frames, z, features, singularities, iso: seamless::IsoLines::default() };
-    // Without iso-lines (a failed factorization) traces follow the field itself.
-    field.iso = seamless::iso_lines(mesh, &field).unwrap_or_default();
-    Ok(field)
+    Ok(CrossField { frames, z, features, singularities, iso: seamless::IsoLines::default() })
 }
 
 #[cfg(test)]

@@ -6,12 +6,12 @@
 //!    are curves from the start.
 //! 3. Separatrices leave every singular vertex (a cone of the field's seamless
 //!    parameterization where one is near), and traces continue feature lines that end inside
-//!    a smooth region (tagged and kept like the lines, and continued again, a few times at
-//!    most, should a repair take away what they ended on); they grow as a motorcycle graph of
-//!    streamlines across triangles, each kept as the vertex path nearest it ([`Motorcycles`]).
-//!    The whole proposal is made twice, the streamlines once along the field and once along
-//!    its parameterization's iso-lines ([`super::seamless`]), and the layout whose quads come
-//!    out better is kept ([`quad_score`]).
+//!    a smooth region (tagged and kept like the lines, and continued again should a repair
+//!    take away what they ended on); they grow as a motorcycle graph of streamlines across
+//!    triangles, each kept as the vertex path nearest it ([`Motorcycles`]). The whole
+//!    proposal is made three times, the streamlines along the field and along the iso-lines of
+//!    its two seamless parameterizations ([`super::seamless`]), and the layout whose quads
+//!    come out best is kept ([`quad_score`]).
 //! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
 //!    not a disk (a handle, a sphere without singularities) gets a cross of traces from its
 //!    deepest vertex; dangling traces go; a face with no vertex inside loses a trace; a face
@@ -31,7 +31,7 @@
 use super::faces::{analyze, FaceInfo};
 use super::graph::CurveGraph;
 use super::judge::quad_score;
-use super::seamless::{iso_lines_scaled, IsoLines};
+use super::seamless::iso_lines;
 use super::separatrix::separatrix_directions;
 use super::slivers::sliver_sides;
 use super::trace::{Motorcycles, TraceEnd, BLOCKED};
@@ -112,9 +112,6 @@ impl fmt::Display for ProposeError {
 
 impl std::error::Error for ProposeError {}
 
-/// Solves of the seamless parameterization that ask for the scale the one before took
-/// ([`iso_lines_scaled`]): the third tracing.
-const SCALE_ROUNDS: usize = 3;
 /// Opposite singularities closer than this fraction of the diagonal cancel...
 const CANCEL_DISTANCE: f64 = 0.03;
 /// ... or, where `--patches` asks for fewer faces than that makes (more than this many times
@@ -151,12 +148,12 @@ const MERGE_TRIES: usize = 12;
 /// repairs cannot make a layout that the reader accepts and that has consistent sample counts.
 pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
     let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
-    // Traces along the field, and along the iso-lines of its seamless parameterization at
-    // unit scale and at the scale it takes: the layout whose quads come out best is kept
+    // Traces along the field, and along the iso-lines of its two seamless parameterizations
+    // (none where their factorization fails): the layout whose quads come out best is kept
     // ([`quad_score`]).
-    let along_field = CrossField { iso: IsoLines::default(), ..field.clone() };
-    let scaled = CrossField { iso: iso_lines_scaled(mesh, &field, SCALE_ROUNDS).unwrap_or_default(), ..field.clone() };
-    let tracings: Vec<&CrossField> = [&along_field, &field, &scaled].into_iter().filter(|f| std::ptr::eq(*f, &along_field) || !f.iso.arms.is_empty()).collect();
+    let isos = iso_lines(mesh, &field).map_or(Vec::new(), Vec::from);
+    let tracings: Vec<CrossField> =
+        std::iter::once(field.clone()).chain(isos.into_iter().map(|iso| CrossField { iso, ..field.clone() })).collect();
     let proposals = at_once(&tracings, |f| {
         let made = propose_along(mesh, f, options)?;
         let score = quad_score(mesh, &made.1).unwrap_or(f64::INFINITY);
@@ -181,8 +178,9 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
     }
 }
 
-/// `f` of every item, in order: natively each after the first on a thread of its own, as
-/// [`first_some`] runs its tries (in wasm, one after the other).
+/// `f` of every item, in order: natively each after the first on a thread of its own (one
+/// that cannot be started runs on this thread, and a panic in one is passed on); in wasm one
+/// after the other.
 fn at_once<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     #[cfg(not(target_arch = "wasm32"))]
     if let [first, rest @ ..] = items {
@@ -286,11 +284,12 @@ fn finish(
     set_up: bool,
 ) -> Result<Written, String> {
     let mut rejections = 0;
-    let mut tried = Tried::default();
+    // The vertices faces that are not disks were seeded from.
+    let mut seeded = Vec::new();
     // Segments whose sparse waypoints let their curve meet another: written with every vertex.
     let mut dense = vec![false; g.segments.len()];
     for _ in 0..MAX_ROUNDS {
-        if repair(mesh, field, g, options.patches, diag, seeds_left, &mut tried)? {
+        if repair(mesh, field, g, options.patches, diag, seeds_left, &mut seeded)? {
             continue;
         }
         dense.resize(g.segments.len(), false);
@@ -429,21 +428,10 @@ fn refine(
 fn first_some<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> Option<R> + Sync) -> (Option<R>, usize) {
     #[cfg(not(target_arch = "wasm32"))]
     for (k, pair) in items.chunks(2).enumerate() {
-        let (a, b) = std::thread::scope(|scope| {
-            let second = pair.get(1).map(|x| (x, std::thread::Builder::new().spawn_scoped(scope, || f(x))));
-            let a = f(&pair[0]);
-            let b = second.map(|(x, spawned)| match spawned {
-                Ok(thread) => thread.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
-                Err(_) if a.is_none() => f(x),
-                Err(_) => None,
-            });
-            (a, b)
-        });
-        if a.is_some() {
-            return (a, 2 * k + 1);
-        }
-        if let Some(Some(b)) = b {
-            return (Some(b), 2 * k + 2);
+        for (i, r) in at_once(pair, &f).into_iter().enumerate() {
+            if r.is_some() {
+                return (r, 2 * k + i + 1);
+            }
         }
     }
     #[cfg(target_arch = "wasm32")]
@@ -645,13 +633,6 @@ fn too_coarse(why: &str) -> String {
     format!("{why}; the mesh is too coarse there: split its triangles (each into four) and try again")
 }
 
-/// What [`repair`] has tried on one graph: the vertices it seeded faces that are not disks
-/// from.
-#[derive(Default)]
-struct Tried {
-    seeds: Vec<u32>,
-}
-
 /// One repair (see the module documentation); false when nothing needed repair.
 fn repair(
     mesh: &Mesh,
@@ -660,7 +641,7 @@ fn repair(
     patches: Option<usize>,
     diag: f64,
     seeds_left: &mut usize,
-    tried: &mut Tried,
+    seeded: &mut Vec<u32>,
 ) -> Result<bool, String> {
     g.prune();
     let ends = g.dangling_feature_ends(mesh);
@@ -678,7 +659,7 @@ fn repair(
     if !not_disk.is_empty() {
         // A seed whose traces all ended at once (the face is thin there) would only be tried
         // again: it is not.
-        let seeds: Vec<u32> = not_disk.iter().filter_map(|f| f.deepest).filter(|v| !tried.seeds.contains(v)).collect();
+        let seeds: Vec<u32> = not_disk.iter().filter_map(|f| f.deepest).filter(|v| !seeded.contains(v)).collect();
         if seeds.is_empty() {
             // A ring of curves with nothing inside, or too thin to cut: drop one of its traces.
             let s = not_disk.iter().flat_map(|f| f.segments.iter()).find(|&&s| !g.segments[s as usize].feature);
@@ -692,7 +673,7 @@ fn repair(
             return Err(too_coarse("a face is not a disk, and cutting it further did not help"));
         }
         *seeds_left -= 1;
-        tried.seeds.extend(&seeds);
+        seeded.extend(&seeds);
         seed(mesh, field, g, &seeds, diag);
         return Ok(true);
     }
@@ -1003,10 +984,10 @@ mod tests {
         let mesh = load("eight.obj");
         let options = LayoutOptions::default();
         let field = compute_field(&mesh, options.feature_angle).unwrap();
-        let along_field = CrossField { iso: IsoLines::default(), ..field.clone() };
-        let scaled = CrossField { iso: iso_lines_scaled(&mesh, &field, SCALE_ROUNDS).unwrap(), ..field.clone() };
+        let [iso, scaled] = iso_lines(&mesh, &field).unwrap();
         let score = |f: &CrossField| quad_score(&mesh, &propose_along(&mesh, f, &options).unwrap().1).unwrap();
-        let (traced, iso, iso_scaled) = (score(&along_field), score(&field), score(&scaled));
+        let traced = score(&field);
+        let (iso, iso_scaled) = (score(&CrossField { iso, ..field.clone() }), score(&CrossField { iso: scaled, ..field.clone() }));
         assert!(iso.min(iso_scaled) < traced, "iso-lines {iso} and {iso_scaled}, field {traced}");
         let kept = propose_layout(&mesh, &options).unwrap();
         assert_eq!(quad_score(&mesh, &kept.surface), Some(traced.min(iso).min(iso_scaled)));

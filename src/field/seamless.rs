@@ -22,10 +22,9 @@
 //!    rotation by `k` (a heavy penalty: seamless up to a translation per cut).
 //! 4. Per triangle, the directions in which `v` and `u` stay constant.
 //!
-//! [`iso_lines_scaled`] solves again with each triangle's arms as long as the gradients of the
-//! solve before (the same factor, a new right-hand side): a second parameterization whose
-//! seams and shear fall elsewhere. Neither wins everywhere; [`super::judge`] keeps the better
-//! layout.
+//! A second parameterization solves again with each triangle's arms as long as the gradients
+//! of the solve before (the same factor, a new right-hand side): its seams and shear fall
+//! elsewhere. Neither wins everywhere; [`super::judge`] keeps the better layout.
 
 use super::frames::wrap;
 use super::{Complex, CrossField};
@@ -73,43 +72,52 @@ impl FaceFrame {
     }
 }
 
-/// The iso-line directions of the field's seamless parameterization; see the module
-/// documentation.
+/// Solves of the second parameterization, each asking for the scale the one before took.
+const SCALE_ROUNDS: usize = 3;
+
+/// The iso-line directions of the field's seamless parameterization (see the module
+/// documentation), and of the second one that asks for the scale the first took: one cut, one
+/// factorization.
 ///
 /// # Errors
 /// [`SolveError`] if the sparse factorization fails (a degenerate mesh).
-pub fn iso_lines(mesh: &Mesh, field: &CrossField) -> Result<IsoLines, SolveError> {
-    iso_lines_scaled(mesh, field, 1)
-}
-
-/// [`iso_lines`] after `rounds` solves, each asking for the scale the one before took.
-pub fn iso_lines_scaled(mesh: &Mesh, field: &CrossField, rounds: usize) -> Result<IsoLines, SolveError> {
+pub fn iso_lines(mesh: &Mesh, field: &CrossField) -> Result<[IsoLines; 2], SolveError> {
     let frames: Vec<Option<FaceFrame>> = (0..mesh.n_faces()).map(|f| FaceFrame::new(corners(mesh, f))).collect();
+    let hats: Vec<Option<Hats>> = frames.iter().enumerate().map(|(f, fr)| fr.as_ref().map(|fr| Hats::new(fr, corners(mesh, f)))).collect();
     let matched = match_arms(mesh, field, &frames);
     let (cut, cone) = cut_graph(mesh, &matched);
     let (wedge, wedges) = wedges(mesh, &cut);
-    let x = solve(mesh, &frames, &matched, &cut, &wedge, wedges, rounds)?;
-    let arms = (0..mesh.n_faces())
-        .map(|f| {
-            let fr = frames[f].as_ref()?;
-            let (gu, gv) = gradient_of(&x, &wedge, f, gradients(fr, corners(mesh, f)));
-            // Folded (or flat) where the gradients turn the wrong way round.
-            (dot(cross(gu, gv), fr.n) > 0.0).then(|| [unit(cross(gv, fr.n)), unit(cross(fr.n, gu))])
-        })
-        .collect();
-    Ok(IsoLines { arms, cone })
+    let [unit_scale, scaled] = solve(mesh, &frames, &hats, &matched, &cut, &wedge, wedges)?;
+    let lines = |x: &[f64]| -> Vec<Option<[Vec3; 2]>> {
+        (0..mesh.n_faces())
+            .map(|f| {
+                let (fr, h) = (frames[f].as_ref()?, hats[f].as_ref()?);
+                let (gu, gv) = gradient_of(x, &wedge, f, &h.g);
+                // Folded (or flat) where the gradients turn the wrong way round.
+                (dot(cross(gu, gv), fr.n) > 0.0).then(|| [unit(cross(gv, fr.n)), unit(cross(fr.n, gu))])
+            })
+            .collect()
+    };
+    Ok([IsoLines { arms: lines(&unit_scale), cone: cone.clone() }, IsoLines { arms: lines(&scaled), cone }])
+}
+
+/// A triangle's area and the gradients of its three hat functions (corner `i`: 1 at `p[i]`,
+/// 0 at the others), in its plane.
+struct Hats {
+    area: f64,
+    g: [Vec3; 3],
+}
+
+impl Hats {
+    fn new(fr: &FaceFrame, p: [Vec3; 3]) -> Hats {
+        let area2 = norm(cross(sub(p[1], p[0]), sub(p[2], p[0])));
+        Hats { area: area2 / 2.0, g: std::array::from_fn(|i| scale(1.0 / area2, cross(fr.n, sub(p[(i + 2) % 3], p[(i + 1) % 3])))) }
+    }
 }
 
 /// The positions of triangle `f`'s corners.
 fn corners(mesh: &Mesh, f: usize) -> [Vec3; 3] {
     mesh.triangles()[f].map(|v| mesh.position(v))
-}
-
-/// The gradients of the three hat functions of a triangle (corner `i`: 1 at `p[i]`, 0 at the
-/// others), in its plane.
-fn gradients(fr: &FaceFrame, p: [Vec3; 3]) -> [Vec3; 3] {
-    let area2 = norm(cross(sub(p[1], p[0]), sub(p[2], p[0])));
-    std::array::from_fn(|i| scale(1.0 / area2, cross(fr.n, sub(p[(i + 2) % 3], p[(i + 1) % 3]))))
 }
 
 /// One arm per triangle, agreeing across the dual spanning tree's edges, and the matching
@@ -254,21 +262,25 @@ fn wedges(mesh: &Mesh, cut: &[bool]) -> (Vec<u32>, usize) {
 }
 
 /// `(u, v)` of every wedge (unknowns `2w`, `2w + 1`): the least-squares fit of the gradients to
-/// the arms, with the seams as heavy penalties.
-fn solve(mesh: &Mesh, frames: &[Option<FaceFrame>], m: &Matched, cut: &[bool], wedge: &[u32], wedges: usize, rounds: usize) -> Result<Vec<f64>, SolveError> {
+/// the arms, with the seams as heavy penalties; after one solve, and after [`SCALE_ROUNDS`].
+fn solve(
+    mesh: &Mesh,
+    frames: &[Option<FaceFrame>],
+    hats: &[Option<Hats>],
+    m: &Matched,
+    cut: &[bool],
+    wedge: &[u32],
+    wedges: usize,
+) -> Result<[Vec<f64>; 2], SolveError> {
     let n = 2 * wedges;
     let mut entries: Vec<(u32, u32)> = Vec::new();
     let mut values: Vec<f64> = Vec::new();
-    let mut x = vec![0.0; n];
     let mut add = |i: usize, j: usize, value: f64| {
         entries.push((i.max(j) as u32, i.min(j) as u32));
         values.push(value);
     };
-    for (f, fr) in frames.iter().enumerate() {
-        let Some(fr) = fr else { continue };
-        let p = corners(mesh, f);
-        let g = gradients(fr, p);
-        let area = norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))) / 2.0;
+    for (f, h) in hats.iter().enumerate() {
+        let Some(Hats { area, g }) = h else { continue };
         for i in 0..3 {
             let wi = wedge[3 * f + i] as usize;
             for j in 0..=i {
@@ -319,14 +331,14 @@ fn solve(mesh: &Mesh, frames: &[Option<FaceFrame>], m: &Matched, cut: &[bool], w
     let mut solver = SpdSolver::new(n, &entries)?;
     solver.factor(&values)?;
     // Per triangle, the scale asked for: 1 at first, then the scale the solve before took.
-    let mut scales = vec![1.0; frames.len()];
-    for round in 0..rounds.max(1) {
+    let mut scales = vec![1.0; hats.len()];
+    let mut first = Vec::new();
+    let mut x = vec![0.0; n];
+    for round in 0..SCALE_ROUNDS {
         x.iter_mut().for_each(|v| *v = 0.0);
-        for (f, fr) in frames.iter().enumerate() {
-            let Some(fr) = fr else { continue };
-            let p = corners(mesh, f);
-            let g = gradients(fr, p);
-            let weight = norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))) / 2.0 * scales[f];
+        for (f, (fr, h)) in frames.iter().zip(hats).enumerate() {
+            let (Some(fr), Some(Hats { area, g })) = (fr, h) else { continue };
+            let weight = area * scales[f];
             let a = fr.direction(m.arm[f]);
             let b = cross(fr.n, a);
             for i in 0..3 {
@@ -336,22 +348,26 @@ fn solve(mesh: &Mesh, frames: &[Option<FaceFrame>], m: &Matched, cut: &[bool], w
             }
         }
         solver.solve_in_place(&mut x)?;
-        if round + 1 < rounds {
-            for (f, fr) in frames.iter().enumerate() {
-                let Some(fr) = fr else { continue };
-                let (gu, gv) = gradient_of(&x, wedge, f, gradients(fr, corners(mesh, f)));
-                let scale = (norm(gu) * norm(gv)).sqrt();
-                if scale.is_finite() && scale > 0.0 {
-                    scales[f] = scale;
-                }
+        if round == 0 {
+            first = x.clone();
+        }
+        if round + 1 == SCALE_ROUNDS {
+            break;
+        }
+        for (f, h) in hats.iter().enumerate() {
+            let Some(h) = h else { continue };
+            let (gu, gv) = gradient_of(&x, wedge, f, &h.g);
+            let scale = (norm(gu) * norm(gv)).sqrt();
+            if scale.is_finite() && scale > 0.0 {
+                scales[f] = scale;
             }
         }
     }
-    Ok(x)
+    Ok([first, x])
 }
 
 /// The gradients of `u` and `v` in triangle `f`, `g` its hat functions' gradients.
-fn gradient_of(x: &[f64], wedge: &[u32], f: usize, g: [Vec3; 3]) -> (Vec3, Vec3) {
+fn gradient_of(x: &[f64], wedge: &[u32], f: usize, g: &[Vec3; 3]) -> (Vec3, Vec3) {
     let (mut gu, mut gv) = ([0.0; 3], [0.0; 3]);
     for i in 0..3 {
         let w = wedge[3 * f + i] as usize;
@@ -382,7 +398,7 @@ mod tests {
     fn a_flat_grid_has_straight_iso_lines_along_its_boundary() {
         let mesh = quad_grid([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]], 12);
         let field = compute_field(&mesh, 35.0).unwrap();
-        let iso = &field.iso;
+        let [iso, _] = &iso_lines(&mesh, &field).unwrap();
         assert!(iso.cone.iter().all(|&c| !c));
         let (shear, folded) = worst_shear(iso);
         assert_eq!(folded, 0);
@@ -401,8 +417,9 @@ mod tests {
     fn a_sphere_has_eight_cones() {
         let mesh = sphere(10);
         let field = compute_field(&mesh, 35.0).unwrap();
-        assert_eq!(field.iso.cone.iter().filter(|&&c| c).count(), 8);
-        assert_eq!(worst_shear(&field.iso).1, 0);
+        let [iso, _] = &iso_lines(&mesh, &field).unwrap();
+        assert_eq!(iso.cone.iter().filter(|&&c| c).count(), 8);
+        assert_eq!(worst_shear(iso).1, 0);
     }
 
     /// A torus of revolution needs no cone. Its field follows the parallels and meridians, but
@@ -412,14 +429,11 @@ mod tests {
     fn a_torus_has_no_cone_and_nearly_right_angles() {
         let mesh = torus(48, 16, 1.0, 0.35);
         let field = compute_field(&mesh, 35.0).unwrap();
-        assert!(field.iso.cone.iter().all(|&c| !c));
-        let (shear, folded) = worst_shear(&field.iso);
-        assert_eq!(folded, 0);
-        assert!(shear < 5.0, "{shear}");
-        let scaled = iso_lines_scaled(&mesh, &field, 3).unwrap();
-        assert!(scaled.cone.iter().all(|&c| !c));
-        let (shear, folded) = worst_shear(&scaled);
-        assert_eq!(folded, 0);
-        assert!(shear < 5.0, "{shear}");
+        for iso in iso_lines(&mesh, &field).unwrap() {
+            assert!(iso.cone.iter().all(|&c| !c));
+            let (shear, folded) = worst_shear(&iso);
+            assert_eq!(folded, 0);
+            assert!(shear < 5.0, "{shear}");
+        }
     }
 }

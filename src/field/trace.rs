@@ -180,9 +180,6 @@ impl<'a> Motorcycles<'a> {
     /// The field's direction in triangle `f` at `point`, nearest `heading`: each corner's arm
     /// nearest it, blended by barycentric weight, in the triangle's plane.
     fn direction(&self, f: u32, point: Vec3, heading: Vec3, n: Vec3) -> Vec3 {
-        if let Some(d) = self.iso_direction(f, heading) {
-            return d;
-        }
         let corners = self.mesh.triangles()[f as usize];
         let p = corners.map(|v| self.mesh.position(v));
         let area = |a: Vec3, b: Vec3, c: Vec3| dot(cross(sub(b, a), sub(c, a)), n).max(0.0);
