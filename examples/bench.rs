@@ -121,7 +121,9 @@ fn timed_proposal(mesh: &Mesh) -> (Result<Proposal, ProposeError>, f64, usize) {
     let (start, mut fastest, mut runs) = (Instant::now(), f64::INFINITY, 0);
     loop {
         let t = Instant::now();
-        let proposal = propose_layout(mesh, &LayoutOptions::default());
+        let mut options = LayoutOptions::default();
+        options.edge_length = Some(edge_length_for_quads(mesh, AUTO_QUADS));
+        let proposal = propose_layout(mesh, &options);
         fastest = fastest.min(t.elapsed().as_secs_f64() * 1e3);
         runs += 1;
         if runs == 3 || start.elapsed().as_secs_f64() > 3.0 {

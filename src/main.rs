@@ -291,18 +291,21 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     let (loaded, as_read) = load_repaired(mesh_path, &a.repairs)?;
     let mesh = &loaded.mesh;
     let t_load = now();
-    // `--layout auto`: the layout `quadlay layout` proposes, with its defaults.
-    let layout_file = if layout_path == "auto" {
-        propose(mesh, mesh_path, &LayoutOptions::default())?.layout
-    } else {
-        read_layout(layout_path)?
-    };
-    let layout = place_layout(mesh, as_read, layout_path, layout_file)?;
     let edge_length = match (a.edge_length, a.quads) {
         (Some(l), _) => l,
         (None, Some(n)) => edge_length_for_quads(mesh, n),
         (None, None) => default_edge_length(mesh),
     };
+    // `--layout auto`: the layout `quadlay layout` proposes, with its defaults, judged by its
+    // quads at this run's edge length.
+    let layout_file = if layout_path == "auto" {
+        let mut options = LayoutOptions::default();
+        options.edge_length = Some(edge_length);
+        propose(mesh, mesh_path, &options)?.layout
+    } else {
+        read_layout(layout_path)?
+    };
+    let layout = place_layout(mesh, as_read, layout_path, layout_file)?;
     // Refused before the parameterization, which would take its time for nothing.
     check_edge_length(&layout, edge_length).map_err(|e| bad_input(format!("{layout_path}: {e}")))?;
     let t_layout = now();

@@ -4,8 +4,13 @@
 //! Segments share no vertex except their end nodes, so their curves meet only at nodes. The
 //! boundary is not stored: its vertices are taken, and the nodes on it are kept here.
 
-use crate::geom::sub;
+use crate::geom::{dot, sub, unit};
 use crate::mesh::{Mesh, NONE};
+
+/// Two segments meeting at a node turn there (a bend) when they turn by more than this.
+const BEND: f64 = std::f64::consts::FRAC_PI_4;
+/// Vertices back along a segment from which its direction at a node is taken.
+const BEND_REACH: usize = 3;
 
 /// A path of mesh vertices from node to node.
 #[derive(Debug, Clone)]
@@ -152,8 +157,9 @@ impl CurveGraph {
     /// Removes dangling traces (an end node reached by nothing else), joins the two
     /// segments at an unpinned node where only they meet, and drops nodes nothing reaches.
     /// Boundary nodes count the two boundary pieces at them. Dangling feature segments stay
-    /// (see [`CurveGraph::dangling_feature_ends`]).
-    pub fn prune(&mut self) {
+    /// (see [`CurveGraph::dangling_feature_ends`]). `bends_kept_on`: the mesh on which the
+    /// two segments of a bend ([`CurveGraph::bends`]) are not joined, to be continued.
+    pub fn prune(&mut self, bends_kept_on: Option<&Mesh>) {
         loop {
             let d = self.degrees();
             let mut changed = false;
@@ -176,7 +182,7 @@ impl CurveGraph {
                     self.node[v] = false;
                     self.pinned[v] = false;
                     changed = true;
-                } else if dv == 2 && !self.pinned[v] && !self.boundary[v] {
+                } else if dv == 2 && !self.pinned[v] && !self.boundary[v] && bends_kept_on.is_none_or(|mesh| self.turn(mesh, v as u32).is_none()) {
                     changed |= self.join_at(v as u32);
                 }
             }
@@ -213,6 +219,45 @@ impl CurveGraph {
         ends
     }
 
+    /// The unpinned nodes inside the surface where two trace segments meet and turn (a trace
+    /// cut by a repair where another ended on it: 90° on one side, 270° on the other), each
+    /// with the directions that continue its two segments straight on. Joined, the curve would
+    /// turn inside a face's side and the face would be no quad; a trace continuing one of
+    /// them through the node makes it a T-junction again.
+    pub fn bends(&self, mesh: &Mesh) -> Vec<(u32, [[f64; 3]; 2])> {
+        let d = self.degrees();
+        (0..self.node.len() as u32)
+            .filter(|&v| self.node[v as usize] && d[v as usize] == 2 && !self.pinned[v as usize] && !self.boundary[v as usize])
+            .filter_map(|v| Some((v, self.turn(mesh, v)?)))
+            .collect()
+    }
+
+    /// At a node where exactly two trace segments end: the directions in which they arrive
+    /// there (so, continue straight on), if they turn by more than [`BEND`].
+    fn turn(&self, mesh: &Mesh, v: u32) -> Option<[[f64; 3]; 2]> {
+        let mut arriving = Vec::with_capacity(2);
+        for s in self.live() {
+            let seg = &self.segments[s as usize];
+            let p = &seg.path;
+            // A few vertices back: a vertex path zigzags round the streamline by half an edge.
+            let back = BEND_REACH.min(p.len() - 1);
+            let from = if p[0] == v {
+                p[back]
+            } else if p[p.len() - 1] == v {
+                p[p.len() - 1 - back]
+            } else {
+                continue;
+            };
+            if seg.feature {
+                return None;
+            }
+            arriving.push(unit(sub(mesh.position(v), mesh.position(from))));
+        }
+        let [a, b] = arriving[..] else { return None };
+        // Straight on, a arrives where b leaves: a = −b.
+        (dot(a, b) > -BEND.cos()).then_some([a, b])
+    }
+
     /// Joins the two segments that end at `v` into one, if they are of one kind and distinct.
     fn join_at(&mut self, v: u32) -> bool {
         let at: Vec<u32> = self
@@ -245,5 +290,56 @@ impl CurveGraph {
         pa.extend_from_slice(&pb[1..]);
         self.push(Segment { path: pa, feature });
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::primitives::quad_grid;
+
+    /// A 10 × 10 grid of the unit square; vertex (i, j) of it.
+    fn grid() -> (Mesh, impl Fn(u32, u32) -> u32) {
+        (quad_grid([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], 10), |i, j| j * 11 + i)
+    }
+
+    /// Two traces from the boundary, meeting at the unpinned node (5, 5): one from (0, 5),
+    /// one from `second_end`.
+    fn two_traces(mesh: &Mesh, v: &impl Fn(u32, u32) -> u32, second_end: (u32, u32)) -> CurveGraph {
+        let mut g = CurveGraph::new(mesh);
+        g.add_path(&(0..=5).map(|i| v(i, 5)).collect::<Vec<_>>(), false);
+        let (i1, j1) = second_end;
+        let second: Vec<u32> = if j1 == 5 { (5..=i1).map(|i| v(i, 5)).collect() } else { (5..=j1).map(|j| v(5, j)).collect() };
+        g.add_path(&second, false);
+        g
+    }
+
+    #[test]
+    fn a_trace_turning_at_a_node_is_a_bend_kept_apart_unless_asked_to_join() {
+        let (mesh, v) = grid();
+        let mut g = two_traces(&mesh, &v, (5, 10));
+        g.prune(Some(&mesh));
+        assert!(g.node[v(5, 5) as usize]);
+        let bends = g.bends(&mesh);
+        assert_eq!(bends.len(), 1);
+        let (at, [a, b]) = bends[0];
+        assert_eq!(at, v(5, 5));
+        // The two arrive along +x and −y: continued straight on, they leave along them.
+        let mut arriving = [a, b].map(|d| [d[0].round(), d[1].round()]);
+        arriving.sort_by(|p, q| p.partial_cmp(q).unwrap());
+        assert_eq!(arriving, [[0.0, -1.0], [1.0, 0.0]]);
+        g.prune(None);
+        assert!(!g.node[v(5, 5) as usize], "joined into one curve");
+        assert_eq!(g.live().count(), 1);
+    }
+
+    #[test]
+    fn a_trace_running_straight_through_a_node_is_joined() {
+        let (mesh, v) = grid();
+        let mut g = two_traces(&mesh, &v, (10, 5));
+        assert!(g.bends(&mesh).is_empty());
+        g.prune(Some(&mesh));
+        assert!(!g.node[v(5, 5) as usize]);
+        assert_eq!(g.live().count(), 1);
     }
 }

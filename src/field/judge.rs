@@ -1,5 +1,6 @@
 //! A proposed layout judged by its quads (issue 22): made as `quadlay remesh` makes them, at
-//! the default edge length, and measured against the surface.
+//! the edge length they will be made at (the default one where that is not known), and
+//! measured against the surface.
 //!
 //! The automatic layout is proposed three times: its traces along the cross field, along the
 //! iso-lines of the field's seamless parameterization ([`super::seamless`]), and along those
@@ -18,21 +19,21 @@ use crate::param::{ParamOptions, ParamSession};
 use crate::quad::quality::measure;
 use crate::quad::{check_reads_back, extract, QuadOptions};
 
-/// How far the quads of `layout` are from what the issue asks (lower is better): their
-/// Hausdorff distance to the surface (relative to the diagonal) times their mean corner-angle
-/// deviation in degrees, doubled for each percent of quads folded; `None` where the remesh
-/// fails (as `remesh` would refuse it).
-pub fn quad_score(mesh: &Mesh, layout: &SurfaceLayout) -> Option<f64> {
+/// How far the quads of `layout` at `edge_length` are from what the issue asks (lower is
+/// better): their Hausdorff distance to the surface (relative to the diagonal) times their mean
+/// corner-angle deviation in degrees, times one more than the number of quads folded (a fold
+/// is a defect the user sees whatever the rest: the issue asks for none); `None` where the
+/// remesh fails (as `remesh` would refuse it).
+pub fn quad_score(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<f64> {
     let options = ParamOptions::default();
     let mut param = ParamSession::new(mesh, layout, &options).ok()?;
     for _ in 0..options.iterations {
         param.step().ok()?;
     }
     param.finish().ok()?;
-    let (quads, _) = extract(layout, &param, &QuadOptions::for_mesh(mesh)).ok()?;
+    let (quads, _) = extract(layout, &param, &QuadOptions::with_edge_length(edge_length)).ok()?;
     check_reads_back(&quads).ok()?;
     let q = measure(mesh, &quads);
-    let folded_percent = 100.0 * q.flipped_quads as f64 / q.faces.max(1) as f64;
-    let score = q.hausdorff * q.angle_deviation_mean_deg.max(1e-3) * (1.0 + folded_percent);
+    let score = q.hausdorff * q.angle_deviation_mean_deg.max(1e-3) * (1.0 + q.flipped_quads as f64);
     score.is_finite().then_some(score)
 }
