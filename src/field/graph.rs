@@ -182,7 +182,7 @@ impl CurveGraph {
                     self.node[v] = false;
                     self.pinned[v] = false;
                     changed = true;
-                } else if dv == 2 && !self.pinned[v] && !self.boundary[v] && bends_kept_on.is_none_or(|mesh| self.turn(mesh, v as u32).is_none()) {
+                } else if self.passes_through(&d, v as u32) && bends_kept_on.is_none_or(|mesh| self.turn(mesh, v as u32).is_none()) {
                     changed |= self.join_at(v as u32);
                 }
             }
@@ -226,10 +226,14 @@ impl CurveGraph {
     /// them through the node makes it a T-junction again.
     pub fn bends(&self, mesh: &Mesh) -> Vec<(u32, [[f64; 3]; 2])> {
         let d = self.degrees();
-        (0..self.node.len() as u32)
-            .filter(|&v| self.node[v as usize] && d[v as usize] == 2 && !self.pinned[v as usize] && !self.boundary[v as usize])
-            .filter_map(|v| Some((v, self.turn(mesh, v)?)))
-            .collect()
+        (0..self.node.len() as u32).filter(|&v| self.passes_through(&d, v)).filter_map(|v| Some((v, self.turn(mesh, v)?))).collect()
+    }
+
+    /// Whether node `v` is where one curve passes through rather than a corner: two segment
+    /// ends there (`d`: [`CurveGraph::degrees`]), not pinned, not on the boundary.
+    fn passes_through(&self, d: &[u32], v: u32) -> bool {
+        let v = v as usize;
+        self.node[v] && d[v] == 2 && !self.pinned[v] && !self.boundary[v]
     }
 
     /// At a node where exactly two trace segments end: the directions in which they arrive

