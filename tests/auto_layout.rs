@@ -153,6 +153,30 @@ fn fandisk_sharp_edges_are_tagged_curves() {
     assert!(missed.is_empty(), "sharp edges not on tagged curves: {missed:?}");
 }
 
+/// Coarse tessellations of smooth surfaces have edges bent beyond the feature angle (the
+/// 315-vertex eight, the low-resolution bunny, nefertiti), but the surface turns as much
+/// beside them: none is a feature line, so no layout curve is forced along their zigzags.
+#[test]
+fn coarse_smooth_meshes_have_no_feature_lines() {
+    use quadlay::field::{find_features, DEFAULT_FEATURE_ANGLE};
+    use quadlay::mesh::geometry::face_normals;
+    for name in ["eight.obj", "bunny_1k8.obj", "nefertiti.obj"] {
+        let mesh = load_mesh(name);
+        let normals = face_normals(&mesh);
+        let bent = (0..mesh.n_edges() as u32)
+            .filter(|&e| !mesh.is_boundary_edge(e))
+            .filter(|&e| {
+                let (f, g) = (normals[mesh.face(2 * e) as usize], normals[mesh.face(2 * e + 1) as usize]);
+                (f[0] * g[0] + f[1] * g[1] + f[2] * g[2]).clamp(-1.0, 1.0).acos() > DEFAULT_FEATURE_ANGLE.to_radians()
+            })
+            .count();
+        let features = find_features(&mesh, DEFAULT_FEATURE_ANGLE);
+        println!("{name}: {bent} edges bent beyond {DEFAULT_FEATURE_ANGLE}°, {} feature lines", features.lines.len());
+        assert!(bent >= 30, "{name}: only {bent} bent edges, the test shows nothing");
+        assert!(features.lines.is_empty(), "{name}: feature lines {:?}", features.lines);
+    }
+}
+
 /// A torus has a field without singularities, and its proposal has none either: every node
 /// is where four curves meet or a T-junction (three, one of them straight through).
 #[test]
