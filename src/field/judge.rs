@@ -19,12 +19,27 @@ use crate::param::{ParamOptions, ParamSession};
 use crate::quad::quality::measure;
 use crate::quad::{check_reads_back, extract, QuadOptions};
 
-/// How far the quads of `layout` at `edge_length` are from what the issue asks (lower is
-/// better): their Hausdorff distance to the surface (relative to the diagonal) times their mean
-/// corner-angle deviation in degrees, times one more than the number of quads folded (a fold
-/// is a defect the user sees whatever the rest: the issue asks for none); `None` where the
-/// remesh fails (as `remesh` would refuse it).
-pub fn quad_score(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<f64> {
+/// A proposal's quads as the judge measures them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Judged {
+    /// Their Hausdorff distance to the surface, relative to the diagonal.
+    pub hausdorff: f64,
+    /// How far they are from what the issue asks (lower is better): the Hausdorff distance
+    /// times their mean corner-angle deviation in degrees, times one more than the number of
+    /// quads folded (a fold is a defect the user sees whatever the rest: the issue asks for
+    /// none).
+    pub score: f64,
+}
+
+/// A proposal whose quads miss the surface by more than this many times the closest
+/// proposal's is not kept, whatever its angles and folds: on camel (CGAL's data) a layout of
+/// two faces, which cut off the legs and head (74 % of the diagonal), scored better than one
+/// of 216 faces (5.4 %) that folds 21 quads.
+const HAUSDORFF_SLACK: f64 = 2.0;
+
+/// The quads of `layout` at `edge_length`, measured; `None` where the remesh fails (as
+/// `remesh` would refuse it).
+pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Judged> {
     let options = ParamOptions::default();
     let mut param = ParamSession::new(mesh, layout, &options).ok()?;
     for _ in 0..options.iterations {
@@ -35,5 +50,47 @@ pub fn quad_score(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Opti
     check_reads_back(&quads).ok()?;
     let q = measure(mesh, &quads);
     let score = q.hausdorff * q.angle_deviation_mean_deg.max(1e-3) * (1.0 + q.flipped_quads as f64);
-    score.is_finite().then_some(score)
+    (score.is_finite() && q.hausdorff.is_finite()).then_some(Judged { hausdorff: q.hausdorff, score })
+}
+
+/// Scores this close to the best (relatively) are a tie: the remesh's noise, not the layout
+/// (the sheared cube's three proposals score 2.08e-15 and 2.13e-15, its quads exact; the
+/// tracings of a curved mesh differ 2 to 10 times).
+const TIE: f64 = 0.05;
+
+/// Which of the proposals judged to keep: the lowest score among those within
+/// [`HAUSDORFF_SLACK`] of the closest to the surface, and of scores tied with it ([`TIE`])
+/// the one of fewest curves (`curves[i]` of proposal `i`: less for the user to edit); `None`
+/// if none could be judged.
+pub fn best(judged: &[Option<Judged>], curves: &[usize]) -> Option<usize> {
+    let closest = judged.iter().flatten().map(|j| j.hausdorff).fold(f64::INFINITY, f64::min);
+    let near: Vec<(usize, f64)> =
+        (0..judged.len()).filter_map(|i| judged[i].filter(|j| j.hausdorff <= HAUSDORFF_SLACK * closest).map(|j| (i, j.score))).collect();
+    let lowest = near.iter().map(|n| n.1).fold(f64::INFINITY, f64::min);
+    near.iter().filter(|n| n.1 <= lowest * (1.0 + TIE)).min_by_key(|n| (curves[n.0], n.0)).map(|n| n.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn judged(hausdorff: f64, score: f64) -> Option<Judged> {
+        Some(Judged { hausdorff, score })
+    }
+
+    /// The lowest score wins among the proposals near the surface; one far from it loses
+    /// whatever its score, and one that could not be judged is never kept.
+    #[test]
+    fn the_best_score_near_the_surface_is_kept() {
+        assert_eq!(best(&[judged(0.02, 3.0), judged(0.03, 2.0), None], &[10, 10, 10]), Some(1));
+        assert_eq!(best(&[judged(0.054, 22.4), None, judged(0.74, 8.7)], &[10, 10, 10]), Some(0));
+        assert_eq!(best(&[None, None], &[10, 10]), None);
+    }
+
+    /// Of scores within the tie, the proposal with fewest curves is kept.
+    #[test]
+    fn of_tied_scores_the_fewest_curves_are_kept() {
+        assert_eq!(best(&[judged(0.01, 2.13), judged(0.01, 2.08), judged(0.01, 2.08)], &[12, 13, 13]), Some(0));
+        assert_eq!(best(&[judged(0.01, 2.5), judged(0.01, 2.08)], &[12, 13]), Some(1));
+    }
 }

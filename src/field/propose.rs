@@ -11,7 +11,7 @@
 //!    triangles, each kept as the vertex path nearest it ([`Motorcycles`]). The whole
 //!    proposal is made three times, the streamlines along the field and along the iso-lines of
 //!    its two seamless parameterizations ([`super::seamless`]), and the layout whose quads
-//!    come out best is kept ([`quad_score`]).
+//!    come out best is kept ([`judge`]).
 //! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
 //!    not a disk (a handle, a sphere without singularities) gets a cross of traces from its
 //!    deepest vertex; dangling traces go; where a repair cut a trace at a node that another
@@ -32,7 +32,7 @@
 
 use super::faces::{analyze, FaceInfo};
 use super::graph::CurveGraph;
-use super::judge::quad_score;
+use super::judge::{best, judge};
 use super::seamless::iso_lines;
 use super::separatrix::separatrix_directions;
 use super::slivers::sliver_sides;
@@ -65,7 +65,7 @@ pub struct LayoutOptions {
     /// About how many faces the layout should have; `None`: as the field gives them.
     pub patches: Option<usize>,
     /// The quad edge length the layout will be remeshed at, where known (`quadlay remesh
-    /// --layout auto`): the proposals are judged by their quads at it ([`quad_score`]);
+    /// --layout auto`): the proposals are judged by their quads at it ([`judge`]);
     /// `None`: at [`JUDGE_SHARE`] of the default edge length.
     pub edge_length: Option<f64>,
 }
@@ -124,12 +124,19 @@ const CANCEL_DISTANCE: f64 = 0.03;
 /// fewer), twice as far apart, up to this many times.
 const PATCHES_SLACK: f64 = 1.25;
 const FEWER_PATCHES_TRIES: usize = 4;
+/// Doublings of [`CANCEL_DISTANCE`] tried when the layout from the singularities fails.
+const CANCEL_RETRIES: u32 = 2;
 /// Traces longer than this many diagonals stop (and are dropped as dangling).
 const MAX_TRACE_LENGTH: f64 = 3.0;
 /// A boundary vertex whose interior angle differs from π by more than this is a corner.
 const BOUNDARY_CORNER: f64 = PI / 4.0;
 /// Bound on the repair rounds.
 const MAX_ROUNDS: usize = 400;
+/// Rounds of [`repair`] after which it mends every empty face and every face short of nodes
+/// at once rather than one a round: one at a time changes the layout least, but a mesh with
+/// thin parts (CGAL's camel: 132 singularities, legs a few triangles across) holds hundreds
+/// of them and did not converge in [`MAX_ROUNDS`]. The shared meshes converge before it.
+const BATCH_AFTER: usize = 100;
 /// Bound on the layouts written and refused (each costs a placement on the surface).
 const MAX_REJECTIONS: usize = 40;
 /// Bound on the rounds that add crosses of traces.
@@ -146,7 +153,7 @@ const MISS_SEGMENTS: f64 = 2.0;
 const MISSED_CURVES: usize = 3;
 /// Bound on the removals of a sliver's side tried ([`refine`]; each writes the layout again).
 const MERGE_TRIES: usize = 12;
-/// The most quads a proposal is judged by ([`quad_score`]): a remesh asked for millions would
+/// The most quads a proposal is judged by ([`judge`]): a remesh asked for millions would
 /// otherwise remesh each proposal at once at that size, three times the memory of the one run.
 const JUDGE_QUADS: f64 = 20_000.0;
 /// A layout made without knowing its density (`quadlay layout`, the page's Suggest) is judged
@@ -165,7 +172,7 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
     let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
     // Traces along the field, and along the iso-lines of its two seamless parameterizations
     // (none where their factorization fails): the layout whose quads come out best is kept
-    // ([`quad_score`]).
+    // ([`judge`]).
     let isos = iso_lines(mesh, &field).map_or(Vec::new(), Vec::from);
     let tracings: Vec<CrossField> =
         std::iter::once(field.clone()).chain(isos.into_iter().map(|iso| CrossField { iso, ..field.clone() })).collect();
@@ -173,26 +180,22 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
     let judged_at = options.edge_length.unwrap_or_else(|| JUDGE_SHARE * default_edge_length(mesh)).max(edge_length_for_quads(mesh, JUDGE_QUADS));
     let proposals = at_once(&tracings, |f| {
         let made = propose_along(mesh, f, options)?;
-        let score = quad_score(mesh, &made.1, judged_at).unwrap_or(f64::INFINITY);
-        Ok::<_, ProposeError>((score, made))
+        let judged = judge(mesh, &made.1, judged_at);
+        Ok::<_, ProposeError>((judged, made))
     });
-    let mut best: Option<(f64, (Layout, SurfaceLayout))> = None;
+    let judged: Vec<_> = proposals.iter().map(|p| p.as_ref().ok().and_then(|p| p.0)).collect();
+    // The best judged, else the first made (none could be remeshed to judge it).
+    let curves: Vec<usize> = proposals.iter().map(|p| p.as_ref().map_or(0, |p| p.1 .0.edges.len())).collect();
+    let kept = best(&judged, &curves).or_else(|| proposals.iter().position(Result::is_ok));
     let mut error = None;
-    for p in proposals {
+    for (i, p) in proposals.into_iter().enumerate() {
         match p {
-            Ok((score, made)) => {
-                if best.as_ref().is_none_or(|b| score < b.0) {
-                    best = Some((score, made));
-                }
-            }
+            Ok((_, (layout, surface))) if Some(i) == kept => return Ok(Proposal { layout, field, surface }),
             Err(e) => error = error.or(Some(e)),
+            Ok(_) => {}
         }
     }
-    match (best, error) {
-        (Some((_, (layout, surface))), _) => Ok(Proposal { layout, field, surface }),
-        (None, Some(e)) => Err(e),
-        (None, None) => Err(ProposeError::NoValidLayout("nothing was tried".into())),
-    }
+    Err(error.unwrap_or_else(|| ProposeError::NoValidLayout("nothing was tried".into())))
 }
 
 /// `f` of every item, in order: natively each after the first on a thread of its own (one
@@ -219,12 +222,18 @@ fn at_once<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> 
 
 /// The layout proposed with traces that follow `field` (its iso-lines where it has them).
 fn propose_along(mesh: &Mesh, field: &CrossField, options: &LayoutOptions) -> Result<(Layout, SurfaceLayout), ProposeError> {
-    // From the singularities first; should that fail, from crosses of traces alone (the
-    // singularities are then where the traces meet).
+    // From the singularities first; should that fail, with the pairs of opposite ones twice
+    // and four times as far apart cancelled (fewer traces, fewer thin faces: on CGAL's camel,
+    // cow and dino the first failed and the fallback below made a layout of two faces that
+    // cut off the legs), and last from crosses of traces alone (the singularities are then
+    // where the traces meet).
     let first = attempt(mesh, field, options, Some(CANCEL_DISTANCE));
     let (mut layout, mut surface) = match first {
         Ok(done) => done,
-        Err(why) => attempt(mesh, field, options, None).map_err(|_| ProposeError::NoValidLayout(why))?,
+        Err(why) => (1..=CANCEL_RETRIES)
+            .find_map(|k| attempt(mesh, field, options, Some(CANCEL_DISTANCE * f64::from(1u32 << k))).ok())
+            .map_or_else(|| attempt(mesh, field, options, None), Ok)
+            .map_err(|_| ProposeError::NoValidLayout(why))?,
     };
     // Fewer faces asked for than the singularities make: cancel pairs farther apart, keeping
     // the layout whose face count is nearest (by ratio) to the one asked.
@@ -300,10 +309,11 @@ fn finish(
     pass: Pass,
 ) -> Result<Written, String> {
     let mut rejections = 0;
-    let mut tried = Tried { seeds: Vec::new(), continue_bends: pass == Pass::Build };
+    let mut tried = Tried { seeds: Vec::new(), continue_bends: pass == Pass::Build, batch: false };
     // Segments whose sparse waypoints let their curve meet another: written with every vertex.
     let mut dense = vec![false; g.segments.len()];
-    for _ in 0..MAX_ROUNDS {
+    for round in 0..MAX_ROUNDS {
+        tried.batch = round >= BATCH_AFTER;
         if repair(mesh, field, g, options.patches, diag, seeds_left, &mut tried)? {
             continue;
         }
@@ -679,6 +689,8 @@ struct Tried {
     /// The vertices faces that are not disks were seeded from, and bends continued from.
     seeds: Vec<u32>,
     continue_bends: bool,
+    /// Past [`BATCH_AFTER`] rounds: mend all faces of a kind in one round.
+    batch: bool,
 }
 
 /// One repair (see the module documentation); false when nothing needed repair.
@@ -741,20 +753,32 @@ fn repair(
         }
         return Ok(true);
     }
-    if let Some(f) = fa.faces.iter().find(|f| f.inside == 0) {
-        // A trace if there is one, else a feature line too short to hold quads.
-        let s = f.segments.iter().copied().min_by_key(|&s| (g.segments[s as usize].feature, g.segments[s as usize].path.len()));
-        let Some(s) = s else {
-            return Err(too_coarse("a face has no mesh vertex inside and no curve to remove"));
-        };
-        g.remove(s);
+    // One face a round, or all of them once the rounds pass [`BATCH_AFTER`].
+    let at_once = if tried.batch { usize::MAX } else { 1 };
+    let empty: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.inside == 0).take(at_once).collect();
+    if !empty.is_empty() {
+        for f in empty {
+            // A side gone already merged this face with a neighbour.
+            if f.segments.iter().any(|&s| g.segments[s as usize].path.is_empty()) {
+                continue;
+            }
+            // A trace if there is one, else a feature line too short to hold quads.
+            let s = f.segments.iter().copied().min_by_key(|&s| (g.segments[s as usize].feature, g.segments[s as usize].path.len()));
+            let Some(s) = s else {
+                return Err(too_coarse("a face has no mesh vertex inside and no curve to remove"));
+            };
+            g.remove(s);
+        }
         return Ok(true);
     }
-    if let Some(f) = fa.faces.iter().find(|f| f.nodes.len() < 4) {
-        let Some(v) = farthest_boundary_vertex(mesh, g, &fa.of_triangle, f, &fa.faces) else {
-            return Err(too_coarse("a face has fewer than four nodes and no room for more"));
-        };
-        g.add_node(v, true);
+    let few: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.nodes.len() < 4).take(at_once).collect();
+    if !few.is_empty() {
+        for f in few {
+            let Some(v) = farthest_boundary_vertex(mesh, g, &fa.of_triangle, f, &fa.faces) else {
+                return Err(too_coarse("a face has fewer than four nodes and no room for more"));
+            };
+            g.add_node(v, true);
+        }
         return Ok(true);
     }
     if let Some(target) = patches {
@@ -1035,21 +1059,22 @@ mod tests {
     use super::*;
     use crate::layout::curve::tests::load;
 
-    /// The layout kept is the best of the three tracings by its quads (on the genus-2 eight,
-    /// whose field spirals round its handles, the field's and the scaled iso-lines' layouts
-    /// score within 1 % of each other, the unit iso-lines' ten times worse).
+    /// The layout kept is the best of the three tracings by its quads ([`best`]).
     #[test]
     fn the_tracing_whose_quads_are_best_is_kept() {
         let mesh = load("eight.obj");
         let options = LayoutOptions::default();
         let field = compute_field(&mesh, options.feature_angle).unwrap();
         let [iso, scaled] = iso_lines(&mesh, &field).unwrap();
-        let h = default_edge_length(&mesh);
-        let score = |f: &CrossField| quad_score(&mesh, &propose_along(&mesh, f, &options).unwrap().1, h).unwrap();
-        let traced = score(&field);
-        let (iso, iso_scaled) = (score(&CrossField { iso, ..field.clone() }), score(&CrossField { iso: scaled, ..field.clone() }));
+        let h = JUDGE_SHARE * default_edge_length(&mesh);
+        let made: Vec<_> = [field.clone(), CrossField { iso, ..field.clone() }, CrossField { iso: scaled, ..field.clone() }]
+            .iter()
+            .map(|f| propose_along(&mesh, f, &options).unwrap())
+            .collect();
+        let all: Vec<_> = made.iter().map(|m| judge(&mesh, &m.1, h)).collect();
+        let curves: Vec<usize> = made.iter().map(|m| m.0.edges.len()).collect();
         let kept = propose_layout(&mesh, &options).unwrap();
-        assert_eq!(quad_score(&mesh, &kept.surface, h), Some(traced.min(iso).min(iso_scaled)));
+        assert_eq!(judge(&mesh, &kept.surface, h), all[best(&all, &curves).unwrap()]);
     }
 
     /// The tries in pairs give what trying one by one gives: the first that helps, and how

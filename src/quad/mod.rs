@@ -6,6 +6,7 @@ pub mod quality;
 
 pub mod counts;
 pub mod density;
+pub mod doublets;
 pub mod locate;
 pub mod relax;
 
@@ -533,6 +534,10 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
         if param.charts()[f as usize].kind == ChartKind::Quad {
             q.iter().for_each(|&v| squared[v as usize] = false);
         }
+    }
+    for v in doublets::dissolve(&mut mesh, &mut quad_face) {
+        pinned.remove(v as usize);
+        squared.remove(v as usize);
     }
     let surface = relax::Surface::new(cut.triangles.iter().map(|t| t.map(|v| cut.positions[v as usize])).collect());
     let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared);
