@@ -125,7 +125,7 @@ const CANCEL_DISTANCE: f64 = 0.03;
 const PATCHES_SLACK: f64 = 1.25;
 const FEWER_PATCHES_TRIES: usize = 4;
 /// Doublings of [`CANCEL_DISTANCE`] tried when the layout from the singularities fails.
-const CANCEL_RETRIES: u32 = 2;
+const CANCEL_RETRIES: u32 = 1;
 /// Traces longer than this many diagonals stop (and are dropped as dangling).
 const MAX_TRACE_LENGTH: f64 = 3.0;
 /// A boundary vertex whose interior angle differs from π by more than this is a corner.
@@ -223,10 +223,10 @@ fn at_once<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> 
 /// The layout proposed with traces that follow `field` (its iso-lines where it has them).
 fn propose_along(mesh: &Mesh, field: &CrossField, options: &LayoutOptions) -> Result<(Layout, SurfaceLayout), ProposeError> {
     // From the singularities first; should that fail, with the pairs of opposite ones twice
-    // and four times as far apart cancelled (fewer traces, fewer thin faces: on CGAL's camel,
-    // cow and dino the first failed and the fallback below made a layout of two faces that
-    // cut off the legs), and last from crosses of traces alone (the singularities are then
-    // where the traces meet).
+    // as far apart cancelled (fewer traces, fewer thin faces: on CGAL's camel, cow and dino
+    // the first failed and the fallback below made a layout of two faces that cut off the
+    // legs; a second doubling changed none of them), and last from crosses of traces alone
+    // (the singularities are then where the traces meet).
     let first = attempt(mesh, field, options, Some(CANCEL_DISTANCE));
     let (mut layout, mut surface) = match first {
         Ok(done) => done,
@@ -740,7 +740,14 @@ fn repair(
             return Ok(true);
         }
         if *seeds_left == 0 {
-            return Err(too_coarse("a face is not a disk, and cutting it further did not help"));
+            // Not the mesh's resolution (femur of CGAL's data, genus 2, fails split 1-to-4 as
+            // well): the traces keep missing a handle or a limb the face wraps round.
+            let at = not_disk.iter().find_map(|f| f.deepest).map(|v| mesh.position(v)).unwrap_or([f64::NAN; 3]);
+            return Err(format!(
+                "a face is still not a disk after {MAX_SEED_ROUNDS} rounds of cutting it with crosses of traces: it wraps round a \
+                 handle or a part the traces keep missing (near {:.6}, {:.6}, {:.6}); draw the layout there by hand",
+                at[0], at[1], at[2]
+            ));
         }
         *seeds_left -= 1;
         tried.seeds.extend(&seeds);
