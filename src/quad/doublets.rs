@@ -10,60 +10,71 @@ use super::QuadMesh;
 
 /// Merges the two quads of every inside vertex of valence 2 into one and drops the vertex;
 /// `quad_face` (the layout face of each quad) follows the quads, and the merged quad keeps
-/// the first one's face. Returns the vertices dissolved, each numbered as it was when it was
-/// removed (so other per-vertex lists can follow, one removal after the other).
-pub fn dissolve(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>) -> Vec<u32> {
-    let mut dissolved = Vec::new();
-    // A merge can leave a neighbour with two quads: go on until none is left.
-    while let Some((v, [a, b])) = first_doublet(mesh) {
-        let (qa, qb) = (mesh.quads[a], mesh.quads[b]);
-        // qa = (v, x, p, y) from v; qb runs the other way round v: (v, y, r, x).
-        let ka = qa.iter().position(|&u| u == v).unwrap_or(0);
-        let kb = qb.iter().position(|&u| u == v).unwrap_or(0);
-        let [_, x, p, y] = [0, 1, 2, 3].map(|i| qa[(ka + i) % 4]);
-        let r = qb[(kb + 2) % 4];
-        mesh.quads[a] = [x, p, y, r];
-        mesh.quads.swap_remove(b);
-        quad_face.swap_remove(b);
-        remove_vertex(mesh, v);
-        dissolved.push(v);
+/// the first one's face. Returns, per vertex as numbered before, whether it was dropped (the
+/// others keep their order), so other per-vertex lists can follow ([`remove_marked`]).
+pub fn dissolve(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>) -> Vec<bool> {
+    let mut dropped = vec![false; mesh.positions.len()];
+    // Each pass merges the doublets that share no quad, in one sweep of the mesh; a merge can
+    // leave a neighbour with two quads, which the next pass finds.
+    loop {
+        let mut round: Vec<Vec<usize>> = vec![Vec::new(); mesh.positions.len()];
+        for (q, quad) in mesh.quads.iter().enumerate() {
+            for &v in quad {
+                round[v as usize].push(q);
+            }
+        }
+        let mut touched = vec![false; mesh.quads.len()];
+        let mut gone = vec![false; mesh.quads.len()];
+        for v in 0..mesh.positions.len() as u32 {
+            let [a, b] = round[v as usize][..] else { continue };
+            if touched[a] || touched[b] || !is_doublet(&mesh.quads[a], &mesh.quads[b], v) {
+                continue;
+            }
+            // quads[a] = (v, x, p, y) from v; quads[b] runs the other way round v: (v, y, r, x).
+            let (qa, qb) = (mesh.quads[a], mesh.quads[b]);
+            let ka = qa.iter().position(|&u| u == v).unwrap_or(0);
+            let kb = qb.iter().position(|&u| u == v).unwrap_or(0);
+            let [x, p, y] = [1, 2, 3].map(|i| qa[(ka + i) % 4]);
+            mesh.quads[a] = [x, p, y, qb[(kb + 2) % 4]];
+            (touched[a], touched[b], gone[b]) = (true, true, true);
+            dropped[v as usize] = true;
+        }
+        if !gone.contains(&true) {
+            break;
+        }
+        remove_marked(&mut mesh.quads, &gone);
+        remove_marked(quad_face, &gone);
     }
-    dissolved
+    // Renumber the vertices left.
+    let mut index = vec![0u32; dropped.len()];
+    let mut next = 0;
+    for (v, &d) in dropped.iter().enumerate() {
+        index[v] = next;
+        next += u32::from(!d);
+    }
+    for quad in &mut mesh.quads {
+        quad.iter_mut().for_each(|u| *u = index[*u as usize]);
+    }
+    remove_marked(&mut mesh.positions, &dropped);
+    remove_marked(&mut mesh.vertex_node, &dropped);
+    dropped
 }
 
-/// An inside vertex with exactly two quads, which share both of its edges, and the two. (Two
-/// quads that share both edges of a vertex close the fan round it: it is inside.)
-fn first_doublet(mesh: &QuadMesh) -> Option<(u32, [usize; 2])> {
-    let mut round: Vec<Vec<usize>> = vec![Vec::new(); mesh.positions.len()];
-    for (q, quad) in mesh.quads.iter().enumerate() {
-        for &v in quad {
-            round[v as usize].push(q);
-        }
-    }
-    let neighbours = |q: &[u32; 4], v: u32| -> Option<[u32; 2]> {
+/// Removes the items whose mark is set, keeping the order of the others.
+pub fn remove_marked<T>(items: &mut Vec<T>, marked: &[bool]) {
+    let mut marks = marked.iter();
+    items.retain(|_| !marks.next().copied().unwrap_or(false));
+}
+
+/// Whether quads `a` and `b`, the only two at `v`, share both of its edges (then they close
+/// the fan round it: `v` is inside).
+fn is_doublet(a: &[u32; 4], b: &[u32; 4], v: u32) -> bool {
+    let neighbours = |q: &[u32; 4]| -> Option<[u32; 2]> {
         let k = q.iter().position(|&u| u == v)?;
         let (n, p) = (q[(k + 1) % 4], q[(k + 3) % 4]);
         Some([n.min(p), n.max(p)])
     };
-    (0..mesh.positions.len() as u32).find_map(|v| {
-        let [a, b] = round[v as usize][..] else { return None };
-        let (na, nb) = (neighbours(&mesh.quads[a], v)?, neighbours(&mesh.quads[b], v)?);
-        (na == nb && na[0] != na[1]).then_some((v, [a, b]))
-    })
-}
-
-/// Removes vertex `v` (used by no quad) and renumbers the ones after it.
-fn remove_vertex(mesh: &mut QuadMesh, v: u32) {
-    mesh.positions.remove(v as usize);
-    mesh.vertex_node.remove(v as usize);
-    for quad in &mut mesh.quads {
-        for u in quad.iter_mut() {
-            debug_assert_ne!(*u, v);
-            if *u > v {
-                *u -= 1;
-            }
-        }
-    }
+    matches!((neighbours(a), neighbours(b)), (Some(na), Some(nb)) if na == nb && na[0] != na[1])
 }
 
 #[cfg(test)]
@@ -81,7 +92,8 @@ mod tests {
         let quads = vec![[4, 2, 3, 0], [4, 0, 1, 2], [0, 5, 6, 1], [1, 6, 7, 2], [2, 7, 8, 3], [3, 8, 5, 0]];
         let mut mesh = QuadMesh { positions, quads, vertex_node: vec![NONE; 9] };
         let mut faces = vec![0, 1, 2, 3, 4, 5];
-        assert_eq!(dissolve(&mut mesh, &mut faces), vec![4]);
+        let dropped = dissolve(&mut mesh, &mut faces);
+        assert_eq!((0..9).filter(|&v| dropped[v]).collect::<Vec<_>>(), vec![4]);
         assert_eq!(mesh.quads.len(), 5);
         assert_eq!(mesh.positions.len(), 8);
         assert_eq!(faces.len(), 5);

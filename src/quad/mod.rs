@@ -535,10 +535,9 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
             q.iter().for_each(|&v| squared[v as usize] = false);
         }
     }
-    for v in doublets::dissolve(&mut mesh, &mut quad_face) {
-        pinned.remove(v as usize);
-        squared.remove(v as usize);
-    }
+    let dropped = doublets::dissolve(&mut mesh, &mut quad_face);
+    doublets::remove_marked(&mut pinned, &dropped);
+    doublets::remove_marked(&mut squared, &dropped);
     let surface = relax::Surface::new(cut.triangles.iter().map(|t| t.map(|v| cut.positions[v as usize])).collect());
     let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared);
     Ok((mesh, Extraction { counts, desired, outside_points: map.outside, relaxed_vertices }))
