@@ -8,8 +8,9 @@
 //! triangle into four at its edge midpoints: the same surface, 4× the triangles) as OBJ.
 //! `--auto-layout MESH...` instead proposes each mesh's layout automatically (issue 22) and
 //! remeshes with it at about [`AUTO_QUADS`] quads, as issue 22 measures it (`quadlay layout`,
-//! which does not know the density, then `quadlay remesh --quads`): one JSON object per mesh with the proposal's time and the quads' quality, or the
-//! error that stopped it (a refusal is a result, the issue's targets are judged by the script).
+//! which does not know the density, then `quadlay remesh --quads`): one JSON object per mesh
+//! with the proposal's time and the quads' quality, or the error that stopped it (a refusal is
+//! a result, the issue's targets are judged by the script).
 
 use quadlay::field::{propose_layout, LayoutOptions, Proposal, ProposeError};
 use quadlay::io::read_mesh;

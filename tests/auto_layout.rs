@@ -159,6 +159,7 @@ fn fandisk_sharp_edges_are_tagged_curves() {
 #[test]
 fn coarse_smooth_meshes_have_no_feature_lines() {
     use quadlay::field::{find_features, DEFAULT_FEATURE_ANGLE};
+    use quadlay::geom::dot;
     use quadlay::mesh::geometry::face_normals;
     for name in ["eight.obj", "bunny_1k8.obj", "nefertiti.obj"] {
         let mesh = load_mesh(name);
@@ -167,7 +168,7 @@ fn coarse_smooth_meshes_have_no_feature_lines() {
             .filter(|&e| !mesh.is_boundary_edge(e))
             .filter(|&e| {
                 let (f, g) = (normals[mesh.face(2 * e) as usize], normals[mesh.face(2 * e + 1) as usize]);
-                (f[0] * g[0] + f[1] * g[1] + f[2] * g[2]).clamp(-1.0, 1.0).acos() > DEFAULT_FEATURE_ANGLE.to_radians()
+                dot(f, g).clamp(-1.0, 1.0).acos() > DEFAULT_FEATURE_ANGLE.to_radians()
             })
             .count();
         let features = find_features(&mesh, DEFAULT_FEATURE_ANGLE);

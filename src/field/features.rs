@@ -7,7 +7,7 @@
 //! surface keeps turning beside them (a coarse or noisy tessellation of a smooth surface).
 
 use crate::geom::{add, dot, norm, scale, sub, unit, Vec3};
-use crate::mesh::geometry::{bounding_box, face_normals};
+use crate::mesh::geometry::face_normals;
 use crate::mesh::{Mesh, NONE};
 
 
@@ -123,9 +123,9 @@ pub fn find_features(mesh: &Mesh, angle_deg: f64) -> Features {
         .collect();
 
     // Drop small groups of sharp edges, and those whose flanks are no flatter than they.
-    let (lo, hi) = bounding_box(mesh);
-    let min_len = MIN_GROUP_LENGTH * norm(sub(hi, lo));
-    let mut flank = Flanks::new(mesh, &normals, &dihedral, limit, FLANK_RADIUS * norm(sub(hi, lo)));
+    let diag = super::diagonal(mesh);
+    let min_len = MIN_GROUP_LENGTH * diag;
+    let mut flank = Flanks::new(mesh, &normals, &dihedral, limit, FLANK_RADIUS * diag);
     let len = |e: u32| norm(sub(mesh.position(mesh.to_vertex(2 * e)), mesh.position(mesh.from_vertex(2 * e))));
     let mut seen = vec![false; ne];
     for s in 0..ne {
@@ -154,10 +154,14 @@ pub fn find_features(mesh: &Mesh, angle_deg: f64) -> Features {
         // Measured at --feature-angle 35: fandisk's creases bend 14 times more than their
         // flanks turn (median), the sharp groups of bunny_1k8, eight, nefertiti at most 1.9
         // times. Decided per group, so a line is kept or dropped whole.
-        let mut ratios: Vec<f64> = group.iter().map(|&e| dihedral[e as usize] / flank.turn(e).max(f64::MIN_POSITIVE)).collect();
-        ratios.sort_by(f64::total_cmp);
-        let smooth = ratios[ratios.len() / 2] < CREASE_RATIO;
-        if smooth || group.iter().map(|&e| len(e)).sum::<f64>() < min_len {
+        // Short groups go whatever their flanks, without flooding them.
+        let short = group.iter().map(|&e| len(e)).sum::<f64>() < min_len;
+        let mut smooth = || {
+            let mut ratios: Vec<f64> = group.iter().map(|&e| dihedral[e as usize] / flank.turn(e).max(f64::MIN_POSITIVE)).collect();
+            ratios.sort_by(f64::total_cmp);
+            ratios[ratios.len() / 2] < CREASE_RATIO
+        };
+        if short || smooth() {
             for e in group {
                 sharp[e as usize] = false;
             }
