@@ -32,6 +32,8 @@ pub struct Faces {
     pub faces: Vec<FaceInfo>,
     pub of_triangle: Vec<u32>,
     pub slits: Vec<u32>,
+    /// Per mesh edge: the live segment along it, or [`NONE`].
+    pub cut_by: Vec<u32>,
 }
 
 /// Cuts `mesh` along the segments of `graph` and its boundary and measures the pieces.
@@ -159,5 +161,5 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
         }
     }
     let slits = (0..graph.segments.len() as u32).filter(|&s| slit[s as usize]).collect();
-    Faces { faces, of_triangle, slits }
+    Faces { faces, of_triangle, slits, cut_by }
 }

@@ -6,6 +6,7 @@
 //! clearly anisotropic, with sharp feature edges and the boundary as hard constraints, and its
 //! singularities. [`propose`] builds the layout proposal on it.
 
+pub mod arcs;
 pub mod complex;
 pub mod cross;
 pub mod curvature;

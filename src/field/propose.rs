@@ -13,8 +13,10 @@
 //!    its two seamless parameterizations ([`super::seamless`]), and the layout whose quads
 //!    come out best is kept ([`judge`]).
 //! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
-//!    not a disk (a handle, a sphere without singularities) gets a cross of traces from its
-//!    deepest vertex; dangling traces go; where a repair cut a trace at a node that another
+//!    not a disk (a ring round a limb, a handle) is cut by shortest arcs between its boundary
+//!    loops or round its handles ([`super::arcs`]), and where it has no boundary to arc from (a
+//!    sphere or torus without singularities) gets a cross of traces from its deepest vertex;
+//!    dangling traces go; where a repair cut a trace at a node that another
 //!    ended on, the two turn there and one of them is traced on through it
 //!    ([`CurveGraph::bends`]); a face with no vertex inside loses a trace; a face
 //!    with fewer than four nodes gets one more on its boundary; faces are split by more traces
@@ -30,7 +32,8 @@
 //!    layout's distortion goes down; then a long side of a sliver face goes while the
 //!    integer sample counts come nearer what the curves ask for (`refine`, [`sliver_sides`]).
 
-use super::faces::{analyze, FaceInfo};
+use super::arcs::{arc_across, arc_round_handle};
+use super::faces::{analyze, FaceInfo, Faces};
 use super::graph::CurveGraph;
 use super::judge::{best, judge};
 use super::seamless::iso_lines;
@@ -309,7 +312,7 @@ fn finish(
     pass: Pass,
 ) -> Result<Written, String> {
     let mut rejections = 0;
-    let mut tried = Tried { seeds: Vec::new(), continue_bends: pass == Pass::Build, batch: false };
+    let mut tried = Tried { seeds: Vec::new(), continue_bends: pass == Pass::Build, batch: false, on_arc: vec![false; mesh.n_vertices()] };
     // Segments whose sparse waypoints let their curve meet another: written with every vertex.
     let mut dense = vec![false; g.segments.len()];
     for round in 0..MAX_ROUNDS {
@@ -691,6 +694,16 @@ struct Tried {
     continue_bends: bool,
     /// Past [`BATCH_AFTER`] rounds: mend all faces of a kind in one round.
     batch: bool,
+    /// Per vertex: on an arc added ([`cut_rings`], [`part_arc_slits`]).
+    on_arc: Vec<bool>,
+}
+
+impl Tried {
+    fn mark_arc(&mut self, arc: &[u32]) {
+        for &v in arc {
+            self.on_arc[v as usize] = true;
+        }
+    }
 }
 
 /// One repair (see the module documentation); false when nothing needed repair.
@@ -725,8 +738,14 @@ fn repair(
         return Ok(true);
     }
     let fa = analyze(mesh, g);
+    if part_arc_slits(mesh, g, &fa, tried) {
+        return Ok(true);
+    }
     let not_disk: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.euler != 1).collect();
     if !not_disk.is_empty() {
+        if cut_rings(mesh, g, &fa, tried) {
+            return Ok(true);
+        }
         // A seed whose traces all ended at once (the face is thin there) would only be tried
         // again: it is not.
         let seeds: Vec<u32> = not_disk.iter().filter_map(|f| f.deepest).filter(|v| !tried.seeds.contains(v)).collect();
@@ -740,12 +759,12 @@ fn repair(
             return Ok(true);
         }
         if *seeds_left == 0 {
-            // Not the mesh's resolution (femur of CGAL's data, genus 2, fails split 1-to-4 as
-            // well): the traces keep missing a handle or a limb the face wraps round.
+            // Arcs found nothing to cut (CGAL's femur, genus 2: a face whose boundary meets
+            // itself in many slits, the arcs that part them taken away by other repairs).
             let at = not_disk.iter().find_map(|f| f.deepest).map(|v| mesh.position(v)).unwrap_or([f64::NAN; 3]);
             return Err(format!(
-                "a face is still not a disk after {MAX_SEED_ROUNDS} rounds of cutting it with crosses of traces: it wraps round a \
-                 handle or a part the traces keep missing (near {:.6}, {:.6}, {:.6}); draw the layout there by hand",
+                "a face is still not a disk after arcs and {MAX_SEED_ROUNDS} rounds of crosses of traces cut it: it wraps round a \
+                 handle or a part and its sides run into each other (near {:.6}, {:.6}, {:.6}); draw the layout there by hand",
                 at[0], at[1], at[2]
             ));
         }
@@ -804,6 +823,36 @@ fn repair(
         }
     }
     Ok(false)
+}
+
+/// Cuts every face that is not a disk with an arc between two loops of its boundary
+/// ([`arc_across`]) or, where it has one loop, round a handle ([`arc_round_handle`]); false
+/// if no face has an arc (a closed surface without curves yet: crosses of traces start it).
+fn cut_rings(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, tried: &mut Tried) -> bool {
+    let arcs: Vec<Vec<u32>> = (0..fa.faces.len() as u32)
+        .filter(|&f| fa.faces[f as usize].euler != 1)
+        .filter_map(|f| arc_across(mesh, g, fa, f, &[]).or_else(|| arc_round_handle(mesh, g, fa, f)))
+        .collect();
+    for arc in &arcs {
+        tried.mark_arc(arc);
+        g.add_path(arc, false);
+    }
+    !arcs.is_empty()
+}
+
+/// An arc of [`cut_rings`] has its face on both sides (a slit, which the reader refuses; a
+/// ring cut once is so): parts the sides of the first such face's arcs with an arc between
+/// two stretches of its boundary that they divide; false if there is none to part.
+fn part_arc_slits(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, tried: &mut Tried) -> bool {
+    let ours = |s: &u32| g.segments[*s as usize].path.iter().all(|&v| tried.on_arc[v as usize]);
+    let Some(&s) = fa.slits.iter().find(|s| ours(s)) else { return false };
+    let Some(face) = fa.faces.iter().position(|f| f.segments.contains(&s)) else { return false };
+    let slits = fa.faces[face].segments.iter().filter(|s| fa.slits.contains(s) && ours(s));
+    let sides: Vec<u32> = slits.flat_map(|&s| g.segments[s as usize].path.iter().copied()).collect();
+    let Some(arc) = arc_across(mesh, g, fa, face as u32, &sides) else { return false };
+    tried.mark_arc(&arc);
+    g.add_path(&arc, false);
+    true
 }
 
 /// Launches a cross of traces (the field's four arms) from each seed vertex.

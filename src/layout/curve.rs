@@ -205,7 +205,7 @@ fn push_point(points: &mut Vec<CurvePoint>, p: CurvePoint) {
 
 /// Heap entry ordered so that `BinaryHeap` pops the smallest key first.
 #[derive(PartialEq)]
-struct Entry(f64, u32);
+pub(crate) struct Entry(pub f64, pub u32);
 impl Eq for Entry {}
 impl Ord for Entry {
     fn cmp(&self, other: &Self) -> Ordering {
