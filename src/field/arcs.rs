@@ -5,15 +5,16 @@
 //! An arc runs from the face's deepest vertex along shortest edge paths to the nearest vertex
 //! of two different pieces of the face's boundary. On a ring (two boundary loops) the first
 //! arc joins the loops and leaves the face a disk whose two sides along the arc are the same
-//! face (a slit, which the reader refuses); a second arc, between the two pieces of the
-//! boundary that the first one's vertices part, from the deepest vertex left (across the
-//! ring from the first), makes two disks. Shortest paths, not streamlines, because they
-//! always arrive; across a limb they run along it, much as the field does.
+//! face (a slit, which the reader refuses); a second arc, from the deepest vertex left to the
+//! two pieces of the boundary that the first one's vertices part, makes two disks. Shortest
+//! paths, not streamlines, because they always arrive; across a limb they run along it, much
+//! as the field does. A face with a handle and one boundary loop is cut round the handle.
 
 use super::faces::Faces;
 use super::graph::CurveGraph;
 use crate::geom::{norm, sub};
 use crate::layout::curve::Entry;
+use crate::mesh::topology::vertex_regions;
 use crate::mesh::{Mesh, NONE};
 use std::collections::BinaryHeap;
 
@@ -161,30 +162,11 @@ fn boundary_pieces(mesh: &Mesh, g: &CurveGraph, faces: &Faces, face: u32, exclud
         t != NONE && faces.of_triangle[t as usize] == face
     };
     let on_boundary = |v: u32| g.taken(v) && !excluded.contains(&v) && mesh.outgoing(v).any(in_face);
-    let mut piece = vec![NONE; mesh.n_vertices()];
-    let mut count = 0;
-    let mut stack = Vec::new();
-    for v in 0..mesh.n_vertices() as u32 {
-        if piece[v as usize] != NONE || mesh.is_isolated(v) || !on_boundary(v) {
-            continue;
-        }
-        piece[v as usize] = count;
-        stack.push(v);
-        while let Some(x) = stack.pop() {
-            for h in mesh.outgoing(x) {
-                let y = mesh.to_vertex(h);
-                let e = mesh.edge(h) as usize;
-                let along = faces.cut_by[e] != NONE || mesh.face(h) == NONE || mesh.face(mesh.twin(h)) == NONE;
-                let beside = in_face(h) || in_face(mesh.twin(h));
-                if along && beside && piece[y as usize] == NONE && on_boundary(y) {
-                    piece[y as usize] = count;
-                    stack.push(y);
-                }
-            }
-        }
-        count += 1;
-    }
-    piece
+    let along_face = |h: u32| {
+        let along = faces.cut_by[mesh.edge(h) as usize] != NONE || mesh.face(h) == NONE || mesh.face(mesh.twin(h)) == NONE;
+        along && (in_face(h) || in_face(mesh.twin(h)))
+    };
+    vertex_regions(mesh, on_boundary, along_face).0
 }
 
 #[cfg(test)]

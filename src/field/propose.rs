@@ -15,11 +15,11 @@
 //! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
 //!    not a disk (a ring round a limb, a handle, a sphere without singularities) gets a cross
 //!    of traces from its deepest vertex, and where a few rounds of those miss, shortest arcs
-//!    between its boundary loops or round its handles ([`super::arcs`]); dangling traces go; where a repair cut a trace at a node that another
-//!    ended on, the two turn there and one of them is traced on through it
-//!    ([`CurveGraph::bends`]); a face with no vertex inside loses a trace; a face
-//!    with fewer than four nodes gets one more on its boundary; faces are split by more traces
-//!    until there are about as many as asked for.
+//!    between its boundary loops or round its handles ([`super::arcs`]); dangling traces go;
+//!    where a repair cut a trace at a node that another ended on, the two turn there and one
+//!    of them is traced on through it ([`CurveGraph::bends`]); a face with no vertex inside
+//!    loses a trace; a face with fewer than four nodes gets one more on its boundary; faces
+//!    are split by more traces until there are about as many as asked for.
 //! 5. The graph is written as a layout file (nodes on vertices, feature curves through all
 //!    their vertices and tagged, traces through the few vertices that keep the geodesic on
 //!    them, [`sparse_waypoints`], or through all where that lets curves meet) and checked
@@ -316,7 +316,13 @@ fn finish(
     pass: Pass,
 ) -> Result<Written, String> {
     let mut rejections = 0;
-    let mut tried = Tried { seeds: Vec::new(), continue_bends: pass == Pass::Build, batch: false, ring_seeds: 0, on_arc: vec![false; mesh.n_vertices()] };
+    let mut tried = Tried {
+        seeds: Vec::new(),
+        continue_bends: pass == Pass::Build,
+        batch: false,
+        ring_seeds: 0,
+        on_arc: vec![false; mesh.n_vertices()],
+    };
     // Segments whose sparse waypoints let their curve meet another: written with every vertex.
     let mut dense = vec![false; g.segments.len()];
     for round in 0..MAX_ROUNDS {
@@ -705,10 +711,12 @@ struct Tried {
 }
 
 impl Tried {
-    fn mark_arc(&mut self, arc: &[u32]) {
+    /// Adds `arc` to `g` as a trace, its vertices marked as an arc's.
+    fn add_arc(&mut self, g: &mut CurveGraph, arc: &[u32]) {
         for &v in arc {
             self.on_arc[v as usize] = true;
         }
+        g.add_path(arc, false);
     }
 }
 
@@ -842,8 +850,7 @@ fn cut_rings(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, tried: &mut Tried) -> 
         .filter_map(|f| arc_across(mesh, g, fa, f, &[]).or_else(|| arc_round_handle(mesh, g, fa, f)))
         .collect();
     for arc in &arcs {
-        tried.mark_arc(arc);
-        g.add_path(arc, false);
+        tried.add_arc(g, arc);
     }
     !arcs.is_empty()
 }
@@ -858,8 +865,7 @@ fn part_arc_slits(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, tried: &mut Tried
     let slits = fa.faces[face].segments.iter().filter(|s| fa.slits.contains(s) && ours(s));
     let sides: Vec<u32> = slits.flat_map(|&s| g.segments[s as usize].path.iter().copied()).collect();
     let Some(arc) = arc_across(mesh, g, fa, face as u32, &sides) else { return false };
-    tried.mark_arc(&arc);
-    g.add_path(&arc, false);
+    tried.add_arc(g, &arc);
     true
 }
 

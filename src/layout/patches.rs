@@ -9,6 +9,7 @@
 use super::curve::{position, Curve, CurvePoint};
 use super::embedding::{CurveNodes, Directed};
 use crate::geom::{cross, dot, sub};
+use crate::mesh::topology::vertex_regions;
 use crate::mesh::{Mesh, NONE};
 
 /// Which curve runs through each vertex and which edges curves cross.
@@ -41,27 +42,7 @@ pub fn cuts(mesh: &Mesh, node_vertex: &[u32], curves: &[(CurveNodes, &Curve)]) -
 /// Flood regions of the vertices off all curves: (region per vertex or NONE, count).
 pub fn regions(mesh: &Mesh, cuts: &Cuts) -> (Vec<u32>, usize) {
     let free = |v: u32| !cuts.is_node[v as usize] && cuts.on_curve[v as usize] == NONE && !mesh.is_isolated(v);
-    let mut region = vec![NONE; mesh.n_vertices()];
-    let mut count = 0u32;
-    let mut stack = Vec::new();
-    for seed in 0..mesh.n_vertices() as u32 {
-        if region[seed as usize] != NONE || !free(seed) {
-            continue;
-        }
-        region[seed as usize] = count;
-        stack.push(seed);
-        while let Some(v) = stack.pop() {
-            for h in mesh.outgoing(v) {
-                let w = mesh.to_vertex(h);
-                if region[w as usize] == NONE && free(w) && !cuts.crossed[mesh.edge(h) as usize] {
-                    region[w as usize] = count;
-                    stack.push(w);
-                }
-            }
-        }
-        count += 1;
-    }
-    (region, count as usize)
+    vertex_regions(mesh, free, |h| !cuts.crossed[mesh.edge(h) as usize])
 }
 
 /// The triangle holding two consecutive curve points; along a mesh edge, the one on the

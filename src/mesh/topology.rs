@@ -27,6 +27,33 @@ pub struct Topology {
     pub vertex_component: Vec<u32>,
 }
 
+/// The connected regions of the vertices for which `member` holds, joined along the outgoing
+/// halfedges for which `joins` holds: the region of each vertex ([`NONE`] off them) and their
+/// count, numbered in the order of their first vertex.
+pub fn vertex_regions(mesh: &Mesh, member: impl Fn(u32) -> bool, joins: impl Fn(u32) -> bool) -> (Vec<u32>, usize) {
+    let mut region = vec![NONE; mesh.n_vertices()];
+    let mut count = 0u32;
+    let mut stack = Vec::new();
+    for seed in 0..mesh.n_vertices() as u32 {
+        if region[seed as usize] != NONE || !member(seed) {
+            continue;
+        }
+        region[seed as usize] = count;
+        stack.push(seed);
+        while let Some(v) = stack.pop() {
+            for h in mesh.outgoing(v) {
+                let w = mesh.to_vertex(h);
+                if region[w as usize] == NONE && joins(h) && member(w) {
+                    region[w as usize] = count;
+                    stack.push(w);
+                }
+            }
+        }
+        count += 1;
+    }
+    (region, count as usize)
+}
+
 /// Walks every boundary loop and floods every component.
 pub fn topology(mesh: &Mesh) -> Topology {
     let nv = mesh.n_vertices();
