@@ -5,6 +5,7 @@
 
 use super::graph::CurveGraph;
 use crate::mesh::geometry::{edge_lengths, triangle_areas};
+use crate::mesh::topology::triangle_regions;
 use crate::mesh::{Mesh, NONE};
 use std::collections::VecDeque;
 
@@ -47,31 +48,10 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
             }
         }
     }
-    // Faces: the triangles reached from each across uncut edges, numbered in the order of
-    // their first triangle.
+    // Faces: the triangles reached from each across uncut edges.
+    let (of_triangle, count) = triangle_regions(mesh, |e| cut_by[e as usize] != NONE);
+    let mut faces = vec![FaceInfo::default(); count];
     let nf = mesh.n_faces();
-    let mut faces: Vec<FaceInfo> = Vec::new();
-    let mut of_triangle = vec![NONE; nf];
-    let mut stack = Vec::new();
-    for t in 0..nf as u32 {
-        if of_triangle[t as usize] != NONE {
-            continue;
-        }
-        let id = faces.len() as u32;
-        faces.push(FaceInfo::default());
-        of_triangle[t as usize] = id;
-        stack.push(t);
-        while let Some(x) = stack.pop() {
-            for k in 0..3 {
-                let h = mesh.face_halfedge(x, k);
-                let y = mesh.face(mesh.twin(h));
-                if y != NONE && of_triangle[y as usize] == NONE && cut_by[mesh.edge(h) as usize] == NONE {
-                    of_triangle[y as usize] = id;
-                    stack.push(y);
-                }
-            }
-        }
-    }
     let areas = triangle_areas(mesh);
     let lengths = edge_lengths(mesh);
     for t in 0..nf {

@@ -8,7 +8,9 @@
 
 use crate::geom::{add, dot, norm, scale, sub, unit, Vec3};
 use crate::mesh::geometry::face_normals;
+use crate::mesh::topology::triangle_regions;
 use crate::mesh::{Mesh, NONE};
+use std::collections::HashMap;
 
 
 /// The sharp edges kept, and the feature lines between corners.
@@ -90,6 +92,56 @@ impl<'a> Flanks<'a> {
     }
 }
 
+/// A region that the sharp edges and the boundary cut out with every vertex on them can hold
+/// no quad, and no layout face may be without a vertex inside: a chamfer one triangle wide
+/// round a hole (CGAL's couplingdown and handle) is a ring of such triangles that no cut
+/// makes a disk. The sharp edges between such a region and the neighbour with vertices inside
+/// it shares the most of them with are not kept, which merges the two (a chamfer's line
+/// along the larger side goes); again until no region is hollow or none has such a neighbour.
+fn merge_hollow_regions(mesh: &Mesh, sharp: &mut [bool]) {
+    loop {
+        let (region, count) = triangle_regions(mesh, |e| sharp[e as usize]);
+        let mut on_line: Vec<bool> = (0..mesh.n_vertices() as u32).map(|v| mesh.is_boundary_vertex(v)).collect();
+        for e in (0..mesh.n_edges() as u32).filter(|&e| sharp[e as usize]) {
+            on_line[mesh.from_vertex(2 * e) as usize] = true;
+            on_line[mesh.to_vertex(2 * e) as usize] = true;
+        }
+        let mut has_inside = vec![false; count];
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            has_inside[region[t] as usize] |= tri.iter().any(|&v| !on_line[v as usize]);
+        }
+        // Per hollow region: the length of sharp edges it shares with each neighbour that
+        // has vertices inside.
+        let mut shared: HashMap<(u32, u32), f64> = HashMap::new();
+        let sides = |e: u32| [2 * e, 2 * e + 1].map(|h| mesh.face(h)).map(|f| if f == NONE { NONE } else { region[f as usize] });
+        for e in (0..mesh.n_edges() as u32).filter(|&e| sharp[e as usize]) {
+            let [a, b] = sides(e);
+            for (r, n) in [(a, b), (b, a)] {
+                if r != n && r != NONE && n != NONE && !has_inside[r as usize] && has_inside[n as usize] {
+                    *shared.entry((r, n)).or_default() += norm(sub(mesh.position(mesh.to_vertex(2 * e)), mesh.position(mesh.from_vertex(2 * e))));
+                }
+            }
+        }
+        let mut merge_with = vec![NONE; count];
+        let mut most = vec![0.0; count];
+        for (&(r, n), &l) in &shared {
+            if l > most[r as usize] || (l == most[r as usize] && n < merge_with[r as usize]) {
+                (most[r as usize], merge_with[r as usize]) = (l, n);
+            }
+        }
+        if shared.is_empty() {
+            return;
+        }
+        for e in 0..mesh.n_edges() as u32 {
+            let [a, b] = sides(e);
+            let joins = |r: u32, n: u32| r != NONE && merge_with[r as usize] == n;
+            if sharp[e as usize] && (joins(a, b) || joins(b, a)) {
+                sharp[e as usize] = false;
+            }
+        }
+    }
+}
+
 /// Finds the sharp edges of `mesh` (dihedral angle above `angle_deg`) and their lines.
 pub fn find_features(mesh: &Mesh, angle_deg: f64) -> Features {
     let ne = mesh.n_edges();
@@ -168,6 +220,8 @@ pub fn find_features(mesh: &Mesh, angle_deg: f64) -> Features {
         }
     }
 
+    merge_hollow_regions(mesh, &mut sharp);
+
     let mut degree = vec![0u32; mesh.n_vertices()];
     for e in 0..ne as u32 {
         if sharp[e as usize] {
@@ -236,4 +290,41 @@ pub fn find_features(mesh: &Mesh, angle_deg: f64) -> Features {
     }
     let corners = (0..mesh.n_vertices() as u32).filter(|&v| is_corner[v as usize]).collect();
     Features { sharp, degree, corners, lines }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::primitives::quad_grid;
+
+    /// Two square loops of sharp edges one grid cell apart on a 20 × 20 grid: the band
+    /// between them has every vertex on a loop, so it merges with the outside, which it
+    /// shares the longer loop with; the inner loop stays.
+    #[test]
+    fn a_band_with_no_vertex_inside_loses_its_longer_line() {
+        let n = 20;
+        let mesh = quad_grid([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], n);
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        let square = |lo: u32, hi: u32| {
+            let mut edges = Vec::new();
+            for k in lo..hi {
+                for (a, b) in [(at(k, lo), at(k + 1, lo)), (at(hi, k), at(hi, k + 1)), (at(k, hi), at(k + 1, hi)), (at(lo, k), at(lo, k + 1))] {
+                    edges.push(mesh.edge(mesh.find_halfedge(a, b).expect("a grid edge")));
+                }
+            }
+            edges
+        };
+        let (inner, outer) = (square(7, 13), square(6, 14));
+        let mut sharp = vec![false; mesh.n_edges()];
+        for &e in inner.iter().chain(&outer) {
+            sharp[e as usize] = true;
+        }
+        merge_hollow_regions(&mesh, &mut sharp);
+        assert!(inner.iter().all(|&e| sharp[e as usize]), "the inner loop stays");
+        assert!(outer.iter().all(|&e| !sharp[e as usize]), "the outer loop goes");
+        // Nothing hollow is left: merging again changes nothing.
+        let kept = sharp.clone();
+        merge_hollow_regions(&mesh, &mut sharp);
+        assert_eq!(sharp, kept);
+    }
 }

@@ -718,6 +718,11 @@ impl Tried {
         }
         g.add_path(arc, false);
     }
+
+    /// Whether segment `s` of `g` lies along arcs added (all its vertices are theirs).
+    fn is_arc(&self, g: &CurveGraph, s: u32) -> bool {
+        g.segments[s as usize].path.iter().all(|&v| self.on_arc[v as usize])
+    }
 }
 
 /// One repair (see the module documentation); false when nothing needed repair.
@@ -765,8 +770,10 @@ fn repair(
             return Ok(true);
         }
         if seeds.is_empty() {
-            // A ring of curves with nothing inside, or too thin to cut: drop one of its traces.
-            let s = not_disk.iter().flat_map(|f| f.segments.iter()).find(|&&s| !g.segments[s as usize].feature);
+            // A ring of curves with nothing inside, or too thin to cut: drop one of its traces
+            // (not an arc: the arc that parts a slit would only be put back, round after
+            // round, as on CGAL's femur).
+            let s = not_disk.iter().flat_map(|f| f.segments.iter()).find(|&&s| !g.segments[s as usize].feature && !tried.is_arc(g, s));
             let Some(&s) = s else {
                 return Err(too_coarse("a face is not a disk and has no vertex inside to cut it from"));
             };
@@ -775,7 +782,7 @@ fn repair(
         }
         if *seeds_left == 0 {
             // Arcs found nothing to cut (CGAL's femur, genus 2: a face whose boundary meets
-            // itself in many slits, the arcs that part them taken away by other repairs).
+            // itself in many slits).
             let at = not_disk.iter().find_map(|f| f.deepest).map(|v| mesh.position(v)).unwrap_or([f64::NAN; 3]);
             return Err(format!(
                 "a face is still not a disk after arcs and {MAX_SEED_ROUNDS} rounds of crosses of traces cut it: it wraps round a \
@@ -859,7 +866,7 @@ fn cut_rings(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, tried: &mut Tried) -> 
 /// ring cut once is so): parts the sides of the first such face's arcs with an arc between
 /// two stretches of its boundary that they divide; false if there is none to part.
 fn part_arc_slits(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, tried: &mut Tried) -> bool {
-    let ours = |s: &u32| g.segments[*s as usize].path.iter().all(|&v| tried.on_arc[v as usize]);
+    let ours = |s: &u32| tried.is_arc(g, *s);
     let Some(&s) = fa.slits.iter().find(|s| ours(s)) else { return false };
     let Some(face) = fa.faces.iter().position(|f| f.segments.contains(&s)) else { return false };
     let slits = fa.faces[face].segments.iter().filter(|s| fa.slits.contains(s) && ours(s));
