@@ -5,6 +5,7 @@ import { execFileSync } from 'node:child_process';
 import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { cpus } from 'node:os';
+import { Worker } from 'node:worker_threads';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -69,7 +70,7 @@ function fastestMs(f) {
 }
 
 console.log('bench: wasm in Node (target/wasm-node)');
-const { Session } = createRequire(import.meta.url)(join(root, 'target/wasm-node/quadlay.js'));
+const { Session, pickSuggestion } = createRequire(import.meta.url)(join(root, 'target/wasm-node/quadlay.js'));
 const wasm = MESHES.map((mesh, i) => {
   const bytes = new Uint8Array(readFileSync(paths[i]));
   const row = { mesh, load_ms: Number(fastestMs(() => new Session(bytes, mesh).free()).toFixed(3)) };
@@ -106,6 +107,8 @@ const wasm = MESHES.map((mesh, i) => {
 // The page's one click (issue 22): suggest a layout, place it, solve (3 iterations) and
 // remesh bunny_28k in wasm; the target is native Instant Meshes' 1.1 s on this machine.
 const SUGGEST_MESH = 'bunny_28k.obj';
+/** The layout one suggestLayout call gave (suggestApart compares). */
+let oneCallLayout;
 const suggest = (() => {
   const s = new Session(new Uint8Array(readFileSync(paths[MESHES.indexOf(SUGGEST_MESH)])), SUGGEST_MESH);
   try {
@@ -113,6 +116,7 @@ const suggest = (() => {
       const t0 = performance.now();
       const { layout } = s.suggestLayout({});
       const t1 = performance.now();
+      oneCallLayout = layout;
       const faces = s.setLayout(layout).summary.faces;
       s.startParam(true);
       for (let k = 0; k < 3; k++) s.stepParam();
@@ -130,6 +134,38 @@ const suggest = (() => {
   }
 })();
 
+// The page's Suggest with more than one processor (suggest.js): the core's tracings at once,
+// each in a worker of its own that loads the mesh, and the one pickSuggestion names; here in
+// Node's worker threads. The same layout as the one call above.
+const SUGGEST_WORKER = `
+  const { parentPort, workerData: { wasm, bytes, name, k } } = require('node:worker_threads');
+  const { Session } = require(wasm);
+  const s = new Session(new Uint8Array(bytes), name);
+  const { layout, tracings, judged, curves } = s.suggestLayout({ tracing: k });
+  parentPort.postMessage({ layout: tracings > k ? layout : undefined, judged, curves });`;
+const suggestApart = await (async () => {
+  const bytes = readFileSync(paths[MESHES.indexOf(SUGGEST_MESH)]);
+  const wasmPath = join(root, 'target/wasm-node/quadlay.js');
+  const once = async () => {
+    const t0 = performance.now();
+    const made = await Promise.all([0, 1, 2].map((k) => new Promise((resolve, reject) => {
+      const w = new Worker(SUGGEST_WORKER, { eval: true, workerData: { wasm: wasmPath, bytes, name: SUGGEST_MESH, k } });
+      w.once('message', (m) => { resolve(m); w.terminate(); });
+      w.once('error', reject);
+    })));
+    const kept = pickSuggestion(made.map((m) => (m.layout == null ? null : { judged: m.judged, curves: m.curves })));
+    return { suggest_ms: Number((performance.now() - t0).toFixed(1)), workers: 3, layout: made[kept]?.layout };
+  };
+  try {
+    const runs = [await once(), await once()];
+    const best = runs.sort((a, b) => a.suggest_ms - b.suggest_ms)[0];
+    const same = best.layout === oneCallLayout;
+    return { mesh: SUGGEST_MESH, suggest_ms: best.suggest_ms, workers: best.workers, same_layout_as_one_call: same };
+  } catch (err) {
+    return { mesh: SUGGEST_MESH, error: err?.message || String(err) };
+  }
+})();
+
 const results = {
   date: new Date().toISOString(),
   machine: { cpus: cpus().length, cpu: cpus()[0]?.model, node: process.version },
@@ -142,6 +178,7 @@ const results = {
   native,
   wasm_node: wasm,
   wasm_suggest_solve_remesh: suggest,
+  wasm_suggest_in_three_workers: suggestApart,
   auto_layout: {
     what: 'native, per shared mesh: layout_ms the fastest of up to 3 runs of propose_layout (layout_runs; fewer past 3 s), ' +
       'then the default parameterization and the extraction at about quads_asked quads: quads, hausdorff_percent (of the ' +
@@ -175,6 +212,10 @@ console.log(suggest.error
   ? `\nsuggest + solve + remesh, wasm, ${suggest.mesh}: failed: ${suggest.error}`
   : `\nsuggest + solve + remesh, wasm, ${suggest.mesh}: ${suggest.total_ms.toFixed(0)} ms (suggest ${suggest.suggest_ms.toFixed(0)} ms; ` +
     `${suggest.faces} faces, ${suggest.quads} quads; target 1100 ms)`);
+console.log(suggestApart.error
+  ? `suggest in three workers, wasm: failed: ${suggestApart.error}`
+  : `suggest in three workers (the page's, with more than one processor), wasm: ${suggestApart.suggest_ms.toFixed(0)} ms ` +
+    `(${suggestApart.same_layout_as_one_call ? 'the same layout as one call' : 'NOT the layout one call makes'})`);
 
 console.log('\nautomatic layout, native, remeshed at about 4000 quads: each value, its target, whether it meets it');
 console.log(`${'mesh'.padEnd(18)}${['layout ms', 'quads', 'Hausdorff %', 'angle °', 'irregular', 'folded']

@@ -7,7 +7,7 @@ use crate::clock::now;
 use crate::culprits::Culprits;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh, ReadError};
-use crate::field::{compute_field, propose_layout, FieldView, LayoutOptions, ProposeError};
+use crate::field::{compute_field, pick, propose_layout, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
 use crate::layout::{build_layout_on, curve, parse_layout, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, SurfaceLayout};
 use crate::mesh::{repair_mesh, RepairOptions};
 use crate::param::chart::ChartKind;
@@ -128,6 +128,7 @@ fn read_error(e: ReadError, name: &str) -> Thrown {
 struct SuggestOptions {
     patches: Option<f64>,
     feature_angle: Option<f64>,
+    tracing: Option<f64>,
 }
 
 /// An options object from JS. Its keys are checked first: serde-wasm-bindgen reads only the
@@ -265,25 +266,53 @@ impl Session {
     }
 
     /// Proposes a coarse quad layout from the surface's cross field (`quadlay layout`).
-    /// `options`: `{ patches?: number, featureAngle?: number }` (about how many faces; sharp
-    /// edges bend more than this many degrees, default 35). Returns `{ layout, field }`:
-    /// `layout` the layout file's text (format v1; place it with `setLayout`), `field` the
-    /// cross field for drawing: `directions` (one unit arm per vertex, xyz), and
-    /// `singularityPositions` (xyz) with `singularityValences`. Throws why no valid layout
-    /// could be made.
+    /// `options`: `{ patches?: number, featureAngle?: number, tracing?: number }` (about how
+    /// many faces; sharp edges bend more than this many degrees, default 35). Returns
+    /// `{ layout, field, note }`: `layout` the layout file's text (format v1; place it with
+    /// `setLayout`), `field` the cross field for drawing: `directions` (one unit arm per
+    /// vertex, xyz), and `singularityPositions` (xyz) with `singularityValences`. Throws why
+    /// no valid layout could be made.
+    ///
+    /// With `tracing: k` only the proposal along the `k`-th tracing is made, and the answer
+    /// also has `tracings` (how many there are; `layout` is null when `k` is not below it),
+    /// `judged` and `curves` for [`pick_suggestion`], or `error` (and no `layout`): why the
+    /// proposal along it could not be made. The page makes the proposals in workers of their
+    /// own, at once.
     #[wasm_bindgen(js_name = suggestLayout)]
     pub fn suggest_layout(&self, options: JsValue) -> Result<JsValue, Thrown> {
-        let opts = layout_options(options, "suggestLayout", &["patches", "featureAngle"])?;
+        let (opts, tracing) = layout_options(options, "suggestLayout", &["patches", "featureAngle", "tracing"])?;
         let mesh = &self.loaded.mesh;
-        let p = propose_layout(mesh, &opts).map_err(|e| Thrown::new("no_layout_proposed", e.to_string()))?;
-        #[derive(Serialize)]
+        let failed = |e: ProposeError| Thrown::new("no_layout_proposed", e.to_string());
+        #[derive(Serialize, Default)]
         struct Suggestion {
-            layout: String,
-            field: FieldView,
+            layout: Option<String>,
+            field: Option<FieldView>,
             note: Option<String>,
+            tracings: Option<usize>,
+            judged: Option<Judged>,
+            curves: Option<usize>,
+            error: Option<String>,
         }
-        let note = p.patches_note(opts.patches);
-        to_js(&Suggestion { layout: write_layout(&p.layout), field: p.field.view(mesh), note })
+        let made = |p: Proposal| {
+            let note = p.patches_note(opts.patches);
+            Suggestion { layout: Some(write_layout(&p.layout)), field: Some(p.field.view(mesh)), note, ..Default::default() }
+        };
+        let Some(k) = tracing else {
+            return to_js(&made(propose_layout(mesh, &opts).map_err(failed)?));
+        };
+        let tracings = Tracings::new(mesh, &opts).map_err(failed)?;
+        let n = Some(tracings.count());
+        if k >= tracings.count() {
+            return to_js(&Suggestion { tracings: n, ..Default::default() });
+        }
+        // A tracing that makes no layout is an answer: another one may.
+        let c = match tracings.candidate(mesh, k, &opts) {
+            Ok(c) => c,
+            Err(e) => return to_js(&Suggestion { tracings: n, error: Some(e.to_string()), ..Default::default() }),
+        };
+        let (judged, curves) = c.summary();
+        let p = Proposal { layout: c.layout, field: tracings.field, surface: c.surface };
+        to_js(&Suggestion { tracings: n, judged, curves: Some(curves), ..made(p) })
     }
 
     /// The surface's cross field alone, for the page's field view: `options`
@@ -291,7 +320,7 @@ impl Session {
     /// `field` it returns (no layout is made). Throws if the field's solve fails.
     #[wasm_bindgen(js_name = crossField)]
     pub fn cross_field(&self, options: JsValue) -> Result<JsValue, Thrown> {
-        let opts = layout_options(options, "crossField", &["featureAngle"])?;
+        let (opts, _) = layout_options(options, "crossField", &["featureAngle"])?;
         let mesh = &self.loaded.mesh;
         let field = compute_field(mesh, opts.feature_angle)
             .map_err(|e| Thrown::new(e.kind(), ProposeError::Field(e).to_string()))?;
@@ -565,7 +594,7 @@ impl Session {
 
 /// The options of [`Session::suggest_layout`] and [`Session::cross_field`], checked: only the
 /// `known` keys, `patches` a whole number from 1 to 100000, `featureAngle` in (0°, 180°).
-fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<LayoutOptions, Thrown> {
+fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<(LayoutOptions, Option<usize>), Thrown> {
     let o: SuggestOptions = if options.is_undefined() || options.is_null() {
         SuggestOptions::default()
     } else {
@@ -584,5 +613,27 @@ fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<Layout
         }
         opts.feature_angle = d;
     }
-    Ok(opts)
+    let tracing = match o.tracing {
+        Some(k) if !(0.0..=1000.0).contains(&k) || k.fract() != 0.0 => {
+            return Err(Thrown::new("bad_options", format!("{what}: tracing must be a whole number from 0, not {k}")));
+        }
+        k => k.map(|k| k as usize),
+    };
+    Ok((opts, tracing))
+}
+
+/// Which of the proposals that `suggestLayout` made apart with `tracing` (one per tracing, in
+/// order) to keep, as `suggestLayout` without it keeps them: `candidates[k]` is `{ judged,
+/// curves }` as it answered, or null where it threw. The index, or null if none was made.
+#[wasm_bindgen(js_name = pickSuggestion)]
+pub fn pick_suggestion(candidates: JsValue) -> Result<JsValue, Thrown> {
+    #[derive(Deserialize)]
+    struct Made {
+        judged: Option<Judged>,
+        curves: usize,
+    }
+    let made: Vec<Option<Made>> = serde_wasm_bindgen::from_value(candidates)
+        .map_err(|e| Thrown::new("bad_options", format!("pickSuggestion: candidates must be a list of {{ judged, curves }} or null: {e}")))?;
+    let summaries: Vec<_> = made.into_iter().map(|m| m.map(|m| (m.judged, m.curves))).collect();
+    to_js(&pick(&summaries))
 }

@@ -150,6 +150,26 @@ export class CoreClient {
   }
 
   /**
+   * Which of the proposals made apart to keep; resolves to its index or null (protocol.js).
+   * @param {Array<{judged: object|null, curves: number}|null>} candidates
+   */
+  pickSuggestion(candidates) {
+    return this.request(MSG.PICK_SUGGESTION, { candidates });
+  }
+
+  /**
+   * Another client on a worker of its own with this one's mesh (none while it has none),
+   * for work that runs beside this one's; `terminate()` it when done.
+   * @returns {Promise<CoreClient>}
+   */
+  async helper() {
+    const helper = new CoreClient(this.workerUrl);
+    const mesh = this.replay?.mesh;
+    if (mesh) await helper.load(mesh.bytes.slice(0), mesh.name, { quiet: true, replaying: true, repairs: mesh.repairs });
+    return helper;
+  }
+
+  /**
    * Throws the worker away (requests in flight are rejected with `reason`) and starts a
    * fresh one with the current mesh and layout sent again, so work can go on; its runs are
    * lost. Used to cancel a long solve and after a crash of the core.

@@ -121,11 +121,25 @@ export const MSG = Object.freeze({
    * Propose a coarse quad layout for the current mesh (the command line's `quadlay layout`).
    * The worker's placed layout is not changed: the page places the proposal as an edit.
    * args:   { options: { patches?: number — about this many faces (absent: as the mesh gives
-   *                      them), featureAngle?: number (degrees, default 35) } }
+   *                      them), featureAngle?: number (degrees, default 35),
+   *                      tracing?: number — only the proposal along this tracing (the core
+   *                      makes one per tracing, 3 or 1, and keeps the best), for
+   *                      PICK_SUGGESTION: workers make them at once } }
    * result: { text: string — the layout file (format v1), field: CrossField (the field it was
    *           made from, as FIELD gives it), seconds: number (in the worker),
    *           note: string | null — when the faces are far from the patches asked, why }
+   *         with `tracing` also { tracings: number (how many there are; text and field are
+   *           null when `tracing` is not below it), judged: { hausdorff, score } | null,
+   *           curves: number, error: string | null (why this tracing made no layout; text
+   *           and field are then null) }
    * On error: why no valid layout could be made, in words.
    */
   SUGGEST: 'suggest-layout',
+  /**
+   * Which of the proposals SUGGEST made with `tracing` (one per tracing, in order) to keep,
+   * as SUGGEST without it keeps them. Needs no mesh.
+   * args:   { candidates: [{ judged, curves } (as SUGGEST answered) | null (it failed)] }
+   * result: the index of the one to keep, or null if none was made
+   */
+  PICK_SUGGESTION: 'pick-suggestion',
 });

@@ -1,7 +1,7 @@
 // The module Web Worker that owns the wasm core. It keeps one `Session` (the current mesh)
 // between messages, so later work (layout, solve) can run on it without sending the mesh
 // again. The protocol is stated in protocol.js.
-import init, { Session } from './pkg/quadlay.js';
+import init, { Session, pickSuggestion } from './pkg/quadlay.js';
 import { MSG } from './protocol.js';
 
 /** The current mesh; replaced only by a successful load. */
@@ -88,10 +88,15 @@ const handlers = {
   [MSG.SUGGEST]({ options = {} }) {
     if (!session) throw new Error('load a mesh first');
     const t0 = performance.now();
-    const { layout, field, note } = session.suggestLayout(options);
+    const { layout, field, note, tracings, judged, curves, error } = session.suggestLayout(options);
     const seconds = (performance.now() - t0) / 1000;
+    const apart = tracings == null ? {} : { tracings, judged: judged ?? null, curves: curves ?? 0, error: error ?? null };
+    if (layout == null) return { result: { text: null, field: null, seconds, note: null, ...apart } };
     const view = fieldView(field);
-    return { result: { text: layout, field: view, seconds, note: note ?? null }, transfer: [view.directions.buffer] };
+    return { result: { text: layout, field: view, seconds, note: note ?? null, ...apart }, transfer: [view.directions.buffer] };
+  },
+  [MSG.PICK_SUGGESTION]({ candidates }) {
+    return { result: pickSuggestion(candidates) ?? null };
   },
 };
 

@@ -20,7 +20,7 @@ use crate::quad::quality::measure;
 use crate::quad::{check_reads_back, extract, QuadOptions};
 
 /// A proposal's quads as the judge measures them.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Judged {
     /// Their Hausdorff distance to the surface, relative to the diagonal.
     pub hausdorff: f64,

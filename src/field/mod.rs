@@ -26,7 +26,8 @@ pub mod waypoints;
 pub use complex::Complex;
 pub use features::{find_features, Features};
 pub use frames::Frames;
-pub use propose::{propose_layout, LayoutOptions, Proposal, ProposeError};
+pub use judge::Judged;
+pub use propose::{pick, propose_layout, LayoutOptions, Proposal, ProposeError, Tracings};
 pub use singularities::{singularities, Singularity};
 
 use crate::geom::{norm, sub};

@@ -34,7 +34,7 @@
 use super::arcs::{arc_across, arc_round_handle};
 use super::faces::{analyze, FaceInfo, Faces};
 use super::graph::CurveGraph;
-use super::judge::{best, judge};
+use super::judge::{best, judge, Judged};
 use super::seamless::iso_lines;
 use super::separatrix::separatrix_directions;
 use super::slivers::sliver_sides;
@@ -176,33 +176,80 @@ const JUDGE_SHARE: f64 = 0.5;
 /// [`ProposeError::Field`] if the field's solve fails; [`ProposeError::NoValidLayout`] if the
 /// repairs cannot make a layout that the reader accepts and that has consistent sample counts.
 pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
-    let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
-    // Traces along the field, and along the iso-lines of its two seamless parameterizations
-    // (none where their factorization fails): the layout whose quads come out best is kept
-    // ([`judge`]).
-    let isos = iso_lines(mesh, &field).map_or(Vec::new(), Vec::from);
-    let tracings: Vec<CrossField> =
-        std::iter::once(field.clone()).chain(isos.into_iter().map(|iso| CrossField { iso, ..field.clone() })).collect();
-    // At most JUDGE_QUADS quads: three remeshes run at once, and the ranking needs no more.
-    let judged_at = options.edge_length.unwrap_or_else(|| JUDGE_SHARE * default_edge_length(mesh)).max(edge_length_for_quads(mesh, JUDGE_QUADS));
-    let proposals = at_once(&tracings, |f| {
-        let made = propose_along(mesh, f, options)?;
-        let judged = judge(mesh, &made.1, judged_at);
-        Ok::<_, ProposeError>((judged, made))
-    });
-    let judged: Vec<_> = proposals.iter().map(|p| p.as_ref().ok().and_then(|p| p.0)).collect();
-    // The best judged, else the first made (none could be remeshed to judge it).
-    let curves: Vec<usize> = proposals.iter().map(|p| p.as_ref().map_or(0, |p| p.1 .0.edges.len())).collect();
-    let kept = best(&judged, &curves).or_else(|| proposals.iter().position(Result::is_ok));
+    let tracings = Tracings::new(mesh, options)?;
+    let candidates = at_once(&(0..tracings.count()).collect::<Vec<_>>(), |&k| tracings.candidate(mesh, k, options));
+    let kept = pick(&candidates.iter().map(|c| c.as_ref().ok().map(Candidate::summary)).collect::<Vec<_>>());
     let mut error = None;
-    for (i, p) in proposals.into_iter().enumerate() {
-        match p {
-            Ok((_, (layout, surface))) if Some(i) == kept => return Ok(Proposal { layout, field, surface }),
+    for (i, c) in candidates.into_iter().enumerate() {
+        match c {
+            Ok(c) if Some(i) == kept => return Ok(Proposal { layout: c.layout, field: tracings.field, surface: c.surface }),
             Err(e) => error = error.or(Some(e)),
             Ok(_) => {}
         }
     }
     Err(error.unwrap_or_else(|| ProposeError::NoValidLayout("nothing was tried".into())))
+}
+
+/// The cross field and what the proposals' traces follow: the field itself and the iso-lines
+/// of its two seamless parameterizations (none where their factorization fails); the layout
+/// whose quads come out best is kept ([`judge`]).
+pub struct Tracings {
+    pub field: CrossField,
+    tracings: Vec<CrossField>,
+}
+
+/// One tracing's proposal, judged by its quads ([`Tracings::candidate`]).
+pub struct Candidate {
+    pub layout: Layout,
+    pub surface: SurfaceLayout,
+    /// Its quads as the judge measures them; `None` if they could not be made.
+    pub judged: Option<Judged>,
+}
+
+impl Candidate {
+    /// What [`pick`] compares: its judged quads and its curves (fewer: less for the user to
+    /// edit).
+    pub fn summary(&self) -> (Option<Judged>, usize) {
+        (self.judged, self.layout.edges.len())
+    }
+}
+
+impl Tracings {
+    /// # Errors
+    /// [`ProposeError::Field`] if the field's solve fails.
+    pub fn new(mesh: &Mesh, options: &LayoutOptions) -> Result<Tracings, ProposeError> {
+        let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
+        let isos = iso_lines(mesh, &field).map_or(Vec::new(), Vec::from);
+        let tracings = std::iter::once(field.clone()).chain(isos.into_iter().map(|iso| CrossField { iso, ..field.clone() })).collect();
+        Ok(Tracings { field, tracings })
+    }
+
+    /// How many proposals there are to make.
+    pub fn count(&self) -> usize {
+        self.tracings.len()
+    }
+
+    /// The proposal along tracing `k` (below [`Tracings::count`]), judged: apart, the page
+    /// makes them in workers of their own.
+    ///
+    /// # Errors
+    /// [`ProposeError::NoValidLayout`] if the repairs cannot make a valid layout along it.
+    pub fn candidate(&self, mesh: &Mesh, k: usize, options: &LayoutOptions) -> Result<Candidate, ProposeError> {
+        let (layout, surface) = propose_along(mesh, &self.tracings[k], options)?;
+        // At most JUDGE_QUADS quads: three remeshes run at once, and the ranking needs no more.
+        let judged_at = options.edge_length.unwrap_or_else(|| JUDGE_SHARE * default_edge_length(mesh)).max(edge_length_for_quads(mesh, JUDGE_QUADS));
+        let judged = judge(mesh, &surface, judged_at);
+        Ok(Candidate { layout, surface, judged })
+    }
+}
+
+/// Which of the candidates (one per tracing, in order; `None` where none was made, else its
+/// judged quads and its curves) to keep: the best judged ([`best`]), else the first made (none
+/// could be remeshed to judge it); `None` if none was made.
+pub fn pick(candidates: &[Option<(Option<Judged>, usize)>]) -> Option<usize> {
+    let judged: Vec<_> = candidates.iter().map(|c| c.and_then(|c| c.0)).collect();
+    let curves: Vec<usize> = candidates.iter().map(|c| c.map_or(0, |c| c.1)).collect();
+    best(&judged, &curves).or_else(|| candidates.iter().position(Option::is_some))
 }
 
 /// `f` of every item, in order: natively each after the first on a thread of its own (one

@@ -47,6 +47,10 @@ test('Suggest layout places a valid layout as one edit; Ctrl+Z restores the prev
   // The page says so, under the view and in the card.
   await page.waitForFunction(() => /^Valid layout: \d+ faces/.test(document.querySelector('.editor-check')?.textContent));
   assert.match(await page.locator('#suggest-message').textContent(), /Suggested \d+ faces.*Ctrl\+Z/);
+  // The tracings are made at once, each in a worker of its own, where there is more than one
+  // processor.
+  const cores = await page.evaluate(() => navigator.hardwareConcurrency);
+  assert.equal((await page.evaluate(() => window.quadlay.suggestion)).workers, cores > 1 ? 3 : 1);
   await page.screenshot({ path: join(outDir, 'suggest-layout.png') });
 
   // One edit: Ctrl+Z returns the sample layout, Ctrl+Shift+Z the proposal.
@@ -61,7 +65,7 @@ test('Suggest layout places a valid layout as one edit; Ctrl+Z restores the prev
   // Fewer patches than the field allows: the proposal says how far it got.
   const few = await page.evaluate(() => window.quadlay.suggest({ patches: 1 }));
   assert.ok(few.faces > 1);
-  assert.match(await page.locator('#suggest-message').textContent(), new RegExp(`Suggested ${few.faces} faces.* s\\. ${few.faces} faces where about 1 were asked: the nearest.*Ctrl\\+Z`));
+  assert.match(await page.locator('#suggest-message').textContent(), new RegExp(`Suggested ${few.faces} faces.* s( \\(\\d workers at once\\))?\\. ${few.faces} faces where about 1 were asked: the nearest.*Ctrl\\+Z`));
   await page.evaluate(() => window.quadlay.suggest({ patches: null }));
 
   // The proposal is an ordinary layout: it solves.

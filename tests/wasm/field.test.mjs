@@ -7,7 +7,7 @@ import { createRequire } from 'node:module';
 import { test } from 'node:test';
 
 const require = createRequire(import.meta.url);
-const { Session } = require('../../target/wasm-node/quadlay.js');
+const { Session, pickSuggestion } = require('../../target/wasm-node/quadlay.js');
 const meshes = new URL('../../../shared/meshes/', import.meta.url);
 const read = (name) => new Uint8Array(readFileSync(new URL(name, meshes)));
 const obj = (text) => new TextEncoder().encode(text);
@@ -92,6 +92,8 @@ test('bad field and layout options are readable errors', () => {
     assert.throws(() => s.suggestLayout({ patches: 0 }), /patches must be a whole number/);
     assert.throws(() => s.suggestLayout({ patches: 2.5 }), /patches must be a whole number/);
     assert.throws(() => s.suggestLayout({ faces: 12 }), /unknown option `faces`/);
+    assert.throws(() => s.suggestLayout({ tracing: -1 }), /tracing must be a whole number/);
+    assert.throws(() => pickSuggestion([{ judged: null }]), /candidates must be a list of/);
   } finally {
     s.free();
   }
@@ -133,3 +135,33 @@ for (const [name, remesh] of [['bunny_1k8.obj', true], ['mushroom.obj', true], [
     }
   });
 }
+
+// The page makes the proposals in workers of their own, one per tracing, and keeps the one
+// pickSuggestion names: the same layout as one suggestLayout call makes them all.
+test('proposals made apart and picked are the one suggestion', () => {
+  const s = new Session(read('mushroom.obj'), 'mushroom.obj');
+  try {
+    const whole = s.suggestLayout({});
+    const first = s.suggestLayout({ tracing: 0 });
+    assert.ok(first.tracings >= 1 && first.judged.hausdorff > 0 && first.curves > 0);
+    const made = [first];
+    for (let k = 1; k < first.tracings; k++) made.push(s.suggestLayout({ tracing: k }));
+    const beyond = s.suggestLayout({ tracing: first.tracings });
+    assert.equal(beyond.layout, null);
+    assert.equal(beyond.error, null);
+    const kept = pickSuggestion(made.map(({ judged, curves }) => ({ judged, curves })));
+    assert.equal(made[kept].layout, whole.layout);
+    assert.deepEqual(made[kept].field, whole.field);
+    // A proposal that failed is null; none made: null, and the first one's error is what one
+    // call throws (a tetrahedron: no face of a layout has a vertex inside).
+    const tet = new Session(obj('v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n'), 'tet.obj');
+    const failed = tet.suggestLayout({ tracing: 0 });
+    assert.equal(failed.layout, null);
+    assert.throws(() => tet.suggestLayout({}), (err) => err.message === failed.error);
+    tet.free();
+    assert.equal(pickSuggestion([null, { judged: null, curves: 12 }]), 1);
+    assert.equal(pickSuggestion([null, null]), null);
+  } finally {
+    s.free();
+  }
+});
