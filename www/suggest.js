@@ -42,6 +42,11 @@ class Cancelled extends Error {
   }
 }
 
+/** Terminates the helper workers of a proposal (`token.helpers`: promises of their clients). */
+function stopHelpers(token) {
+  for (const h of token.helpers ?? []) h.then((client) => client.terminate(), () => {});
+}
+
 export class Suggester {
   /**
    * @param {object} o
@@ -215,7 +220,7 @@ export class Suggester {
       if (token.cancelled) throw err;
       return this.client.suggestLayout(options);
     } finally {
-      for (const h of helpers) h.then((client) => client.terminate(), () => {});
+      stopHelpers(token);
     }
     const kept = await this.client.pickSuggestion(made.map((a) => (a.text == null ? null : { judged: a.judged, curves: a.curves })));
     // None made: the first tracing's reason, as one request gives it.
@@ -235,13 +240,16 @@ export class Suggester {
   cancel() {
     if (!this.current) return;
     this.current.cancelled = true;
-    for (const h of this.current.helpers ?? []) h.then((client) => client.terminate(), () => {});
+    stopHelpers(this.current);
     this.client.restart('the suggestion was cancelled');
   }
 
-  /** Forgets a proposal in progress without touching the worker (a new mesh came). */
+  /** Forgets a proposal in progress without touching the page's worker (a new mesh came). */
   stop() {
-    if (this.current) this.current.cancelled = true;
+    if (this.current) {
+      this.current.cancelled = true;
+      stopHelpers(this.current);
+    }
     this.current = null;
     this.setRunning(false);
   }

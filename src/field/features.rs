@@ -122,15 +122,16 @@ fn merge_hollow_regions(mesh: &Mesh, sharp: &mut [bool]) {
                 }
             }
         }
+        if shared.is_empty() {
+            return;
+        }
+        // The neighbour sharing the most; of equal lengths the first (whatever the map's order).
         let mut merge_with = vec![NONE; count];
         let mut most = vec![0.0; count];
         for (&(r, n), &l) in &shared {
             if l > most[r as usize] || (l == most[r as usize] && n < merge_with[r as usize]) {
                 (most[r as usize], merge_with[r as usize]) = (l, n);
             }
-        }
-        if shared.is_empty() {
-            return;
         }
         for e in 0..mesh.n_edges() as u32 {
             let [a, b] = sides(e);
