@@ -4,7 +4,6 @@
 //! vertex inside, and no segment may have the same face on both sides.
 
 use super::graph::CurveGraph;
-use crate::mesh::geometry::{edge_lengths, triangle_areas};
 use crate::mesh::topology::triangle_regions;
 use crate::mesh::{Mesh, NONE};
 use std::collections::VecDeque;
@@ -52,8 +51,7 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
     let (of_triangle, count) = triangle_regions(mesh, |e| cut_by[e as usize] != NONE);
     let mut faces = vec![FaceInfo::default(); count];
     let nf = mesh.n_faces();
-    let areas = triangle_areas(mesh);
-    let lengths = edge_lengths(mesh);
+    let (areas, lengths) = (&graph.measures.areas, &graph.measures.lengths);
     for t in 0..nf {
         let f = &mut faces[of_triangle[t] as usize];
         f.area += areas[t];

@@ -5,7 +5,9 @@
 //! boundary is not stored: its vertices are taken, and the nodes on it are kept here.
 
 use crate::geom::{dot, sub, unit};
+use crate::mesh::geometry::{edge_lengths, triangle_areas};
 use crate::mesh::{Mesh, NONE};
+use std::sync::Arc;
 
 /// Two segments meeting at a node turn there (a bend) when they turn by more than this.
 const BEND: f64 = std::f64::consts::FRAC_PI_4;
@@ -32,6 +34,16 @@ pub struct CurveGraph {
     /// Per vertex: the segment it lies inside of (not at its ends), or [`NONE`].
     inside: Vec<u32>,
     boundary: Vec<bool>,
+    /// The mesh's triangle areas and edge lengths, which [`super::faces::analyze`] sums every
+    /// repair round: computed once, shared by the graph's clones.
+    pub measures: Arc<MeshMeasures>,
+}
+
+/// Per triangle its area, per edge its length.
+#[derive(Debug)]
+pub struct MeshMeasures {
+    pub areas: Vec<f64>,
+    pub lengths: Vec<f64>,
 }
 
 impl CurveGraph {
@@ -39,7 +51,8 @@ impl CurveGraph {
     pub fn new(mesh: &Mesh) -> CurveGraph {
         let nv = mesh.n_vertices();
         let boundary = (0..nv as u32).map(|v| mesh.is_boundary_vertex(v)).collect();
-        CurveGraph { node: vec![false; nv], pinned: vec![false; nv], segments: Vec::new(), inside: vec![NONE; nv], boundary }
+        let measures = Arc::new(MeshMeasures { areas: triangle_areas(mesh), lengths: edge_lengths(mesh) });
+        CurveGraph { node: vec![false; nv], pinned: vec![false; nv], segments: Vec::new(), inside: vec![NONE; nv], boundary, measures }
     }
 
     /// Whether `v` is taken: a node, inside a segment, or on the boundary.
