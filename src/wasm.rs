@@ -624,7 +624,8 @@ fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<(Layou
 
 /// Which of the proposals that `suggestLayout` made apart with `tracing` (one per tracing, in
 /// order) to keep, as `suggestLayout` without it keeps them: `candidates[k]` is `{ judged,
-/// curves }` as it answered, or null where it threw. The index, or null if none was made.
+/// curves }` as it answered, or null where it made none (its `error`, or it threw). The
+/// index, or null if none was made.
 #[wasm_bindgen(js_name = pickSuggestion)]
 pub fn pick_suggestion(candidates: JsValue) -> Result<JsValue, Thrown> {
     #[derive(Deserialize)]

@@ -7,7 +7,7 @@
 //! surface keeps turning beside them (a coarse or noisy tessellation of a smooth surface).
 
 use crate::geom::{add, dot, norm, scale, sub, unit, Vec3};
-use crate::mesh::geometry::face_normals;
+use crate::mesh::geometry::{edge_lengths, face_normals};
 use crate::mesh::topology::triangle_regions;
 use crate::mesh::{Mesh, NONE};
 use std::collections::HashMap;
@@ -99,6 +99,7 @@ impl<'a> Flanks<'a> {
 /// it shares the most of them with are not kept, which merges the two (a chamfer's line
 /// along the larger side goes); again until no region is hollow or none has such a neighbour.
 fn merge_hollow_regions(mesh: &Mesh, sharp: &mut [bool]) {
+    let lengths = edge_lengths(mesh);
     loop {
         let (region, count) = triangle_regions(mesh, |e| sharp[e as usize]);
         let mut on_line: Vec<bool> = (0..mesh.n_vertices() as u32).map(|v| mesh.is_boundary_vertex(v)).collect();
@@ -118,7 +119,7 @@ fn merge_hollow_regions(mesh: &Mesh, sharp: &mut [bool]) {
             let [a, b] = sides(e);
             for (r, n) in [(a, b), (b, a)] {
                 if r != n && r != NONE && n != NONE && !has_inside[r as usize] && has_inside[n as usize] {
-                    *shared.entry((r, n)).or_default() += norm(sub(mesh.position(mesh.to_vertex(2 * e)), mesh.position(mesh.from_vertex(2 * e))));
+                    *shared.entry((r, n)).or_default() += lengths[e as usize];
                 }
             }
         }
