@@ -246,9 +246,11 @@ fn round(start: &DualQp<'_>) -> Option<Vec<f64>> {
     None
 }
 
-/// A coordinate fixed at an integer: the state before, and the integers not tried yet.
+/// A coordinate fixed at an integer: the state before (`None`: the coordinate was at that
+/// integer already, and the state after, with `j` free again, is the one before), and the
+/// integers not tried yet.
 struct Choice<'a> {
-    before: DualQp<'a>,
+    before: Option<DualQp<'a>>,
     j: usize,
     /// The farthest first (tried from the back).
     rest: Vec<f64>,
@@ -276,9 +278,19 @@ fn round_once(start: &DualQp<'_>, first: &[usize], budget: &mut usize) -> Result
         loop {
             if let Some(value) = rest.pop() {
                 *budget = budget.checked_sub(1).ok_or(None)?;
+                // Most coordinates chosen are at an integer already (at --quads 4000 on
+                // elephant's automatic layout, 1276 of 1802): fixing them there changes
+                // nothing else, and needs neither a copy of the state nor a solve.
+                if qp.fix_where_it_is(j, value) {
+                    trail.push_back(Choice { before: None, j, rest });
+                    if trail.len() > TRAIL {
+                        trail.pop_front();
+                    }
+                    break;
+                }
                 let mut attempt = qp.clone();
                 if attempt.fix(j, value).is_ok() {
-                    trail.push_back(Choice { before: std::mem::replace(&mut qp, attempt), j, rest });
+                    trail.push_back(Choice { before: Some(std::mem::replace(&mut qp, attempt)), j, rest });
                     if trail.len() > TRAIL {
                         trail.pop_front();
                     }
@@ -288,7 +300,11 @@ fn round_once(start: &DualQp<'_>, first: &[usize], budget: &mut usize) -> Result
                 let dead_end = *dead_end.get_or_insert(j);
                 backtracks += 1;
                 let choice = trail.pop_back().filter(|_| backtracks <= BACKTRACKS).ok_or(Some(dead_end))?;
-                (qp, j, rest) = (choice.before, choice.j, choice.rest);
+                match choice.before {
+                    Some(before) => qp = before,
+                    None => qp.unfix(choice.j),
+                }
+                (j, rest) = (choice.j, choice.rest);
             }
         }
     }

@@ -125,6 +125,22 @@ impl<'a> DualQp<'a> {
         self.solve()
     }
 
+    /// Holds `z_j` at `value` from now on if it is there already (within the solve's
+    /// tolerance): a solved state stays solved, and nothing else changes (as [`DualQp::fix`]
+    /// would leave it). Returns whether it did.
+    pub fn fix_where_it_is(&mut self, j: usize, value: f64) -> bool {
+        let held = (self.z[j] - value).abs() <= TOL;
+        if held {
+            self.fixed[j] = Fixing::Pending(value);
+        }
+        held
+    }
+
+    /// Lets `z_j`, fixed by [`DualQp::fix_where_it_is`] and not moved since, go free again.
+    pub fn unfix(&mut self, j: usize) {
+        self.fixed[j] = Fixing::Free;
+    }
+
     pub fn is_fixed(&self, j: usize) -> bool {
         self.fixed[j] != Fixing::Free
     }
@@ -233,7 +249,7 @@ impl<'a> DualQp<'a> {
             let mut back = vec![0.0; q];
             for i in (0..q).rev() {
                 let row = &self.r[i * k..i * k + q];
-                let s = d[i] - row[i + 1..].iter().zip(&back[i + 1..]).map(|(r, b)| r * b).sum::<f64>();
+                let s = d[i] - dense_dot(&row[i + 1..], &back[i + 1..]);
                 back[i] = s / self.r[i * k + i];
             }
             // Partial step: the largest dual step keeping the bounds' multipliers ≥ 0.
@@ -348,6 +364,21 @@ fn rotate(a: &mut [f64], b: &mut [f64], cos: f64, sin: f64) {
     }
 }
 
+/// `a · b` in four interleaved partial sums: one running sum waits on every addition before
+/// the next, and the back substitution of the dual method (`q²/2` products for `q` active
+/// constraints, each time a constraint is added) spent most of the rounding's time waiting.
+fn dense_dot(a: &[f64], b: &[f64]) -> f64 {
+    let (a4, b4) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = a4.remainder().iter().zip(b4.remainder()).map(|(x, y)| x * y).sum();
+    let mut sums = [0.0; 4];
+    for (x, y) in a4.zip(b4) {
+        for k in 0..4 {
+            sums[k] += x[k] * y[k];
+        }
+    }
+    (sums[0] + sums[1]) + (sums[2] + sums[3]) + tail
+}
+
 fn dot(row: &Row, z: &[f64]) -> f64 {
     row.iter().map(|&(a, x)| x * z[a]).sum()
 }
@@ -385,6 +416,33 @@ mod tests {
         assert!((pulled.z[0] - 2.5).abs() < 1e-12 && (pulled.z[1] - 6.0).abs() < 1e-12, "{:?}", pulled.z);
         // Fixing z1 = 1 would need z0 ≤ 0 (piece 1) and z0 ≥ 1 (piece 0).
         assert_eq!(qp.fix(1, 1.0).unwrap_err().pieces, vec![0, 1]);
+    }
+
+    #[test]
+    fn fixing_a_variable_where_it_is_leaves_the_state_a_fix_would() {
+        // z0 ≥ 1 is active (wants −2), z1 is free at 3: fixing z1 at 3 changes nothing else,
+        // and letting it go again leaves it free.
+        let rows: Vec<Row> = vec![vec![(0, 1.0)], vec![(1, 1.0)], vec![(0, 1.0), (1, 1.0)]];
+        let mut qp = DualQp::new(&rows, 2, &[-2.0, 3.0, 4.0]).unwrap();
+        qp.solve().unwrap();
+        let mut solved = qp.clone();
+        let z1 = qp.z[1];
+        assert!(!qp.fix_where_it_is(1, z1.round() + 1.0), "{z1} is not one more than its integer");
+        solved.fix(1, z1).unwrap();
+        assert!(qp.fix_where_it_is(1, z1));
+        assert_eq!((&qp.z, &qp.fixed, &qp.active, &qp.u, qp.steps), (&solved.z, &solved.fixed, &solved.active, &solved.u, solved.steps));
+        qp.unfix(1);
+        assert!(!qp.is_fixed(1));
+    }
+
+    #[test]
+    fn the_dense_dot_product_is_the_sum_of_products() {
+        for n in 0..11 {
+            let a: Vec<f64> = (0..n).map(|i| 1.0 + i as f64 * 0.5).collect();
+            let b: Vec<f64> = (0..n).map(|i| 2.0 - i as f64 * 0.25).collect();
+            let plain: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+            assert!((dense_dot(&a, &b) - plain).abs() <= 1e-12 * (1.0 + plain.abs()), "{n}");
+        }
     }
 
     #[test]
