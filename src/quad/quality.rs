@@ -16,11 +16,11 @@
 //! about 1e150) are left out too. Means and maxima over nothing are 0, so an empty quad mesh
 //! measures all zeros (check `faces`), and every number is finite.
 
-use super::closest::TriangleTree;
+use super::closest::{closest_point_on_triangle, TriangleTree};
 use super::QuadMesh;
 use crate::geom::{cross, dot, norm, sub, Vec3};
 use crate::mesh::geometry::bounding_box;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, NONE};
 
 /// Quality measures of a quad mesh; see [`measure`].
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -325,7 +325,7 @@ fn scaled_jacobian(q: &[Vec3; 4]) -> f64 {
 }
 
 /// Whether a quad (`None`: index out of range or non-finite corner) is degenerate or faces
-/// away from the input triangle nearest to its centroid.
+/// away from the input's surface at the point nearest to its centroid.
 fn is_flipped(input: &Mesh, tree: &TriangleTree, quad: Option<&[Vec3; 4]>) -> bool {
     let Some(q) = quad else { return true };
     let n = quad_normal(q);
@@ -336,8 +336,54 @@ fn is_flipped(input: &Mesh, tree: &TriangleTree, quad: Option<&[Vec3; 4]>) -> bo
     let Some(hit) = tree.closest(centroid) else {
         return false;
     };
-    let [a, b, c] = input.triangles()[hit.triangle as usize].map(|v| input.position(v));
-    dot(n, cross(sub(b, a), sub(c, a))) < 0.0
+    dot(n, pseudo_normal(input, centroid, hit.triangle, hit.distance_squared.sqrt())) < 0.0
+}
+
+/// The surface's normal at the point of `input` nearest to `p` (at `distance`, on triangle
+/// `nearest`), as Bærentzen and Aanæs define it to tell the sides of a surface apart
+/// (*Signed distance computation using the angle weighted pseudonormal*, 2005): a
+/// triangle's normal inside it, the sum of the two normals on an edge, the sum weighted by
+/// the angles at a vertex. On an edge or a vertex the triangles round it are as near as
+/// `nearest`, and which of them the search returns is chance: a quad spanning a sharp edge
+/// of fandisk, facing along one side, counted as folded when the other side came first.
+fn pseudo_normal(input: &Mesh, p: Vec3, nearest: u32, distance: f64) -> Vec3 {
+    let corners = |t: u32| input.triangles()[t as usize].map(|v| input.position(v));
+    let unit_normal = |t: u32| {
+        let [a, b, c] = corners(t);
+        let n = cross(sub(b, a), sub(c, a));
+        let l = norm(n);
+        if l > 0.0 { n.map(|x| x / l) } else { [0.0; 3] }
+    };
+    let [a, b, c] = corners(nearest);
+    let size = norm(sub(b, a)).max(norm(sub(c, a))).max(norm(sub(c, b)));
+    let tie = 1e-9 * (distance + size);
+    let mut around: Vec<u32> = input.triangles()[nearest as usize]
+        .iter()
+        .flat_map(|&v| input.outgoing(v).map(|h| input.face(h)))
+        .filter(|&t| t != NONE)
+        .collect();
+    around.sort_unstable();
+    around.dedup();
+    let mut sum = [0.0; 3];
+    for t in around {
+        let [a, b, c] = corners(t);
+        let at = closest_point_on_triangle(p, a, b, c);
+        if t != nearest && norm(sub(at, p)) > distance + tie {
+            continue;
+        }
+        // The angle of the triangle at the point: at one of its corners, that corner's; on an
+        // edge or inside, the same for every triangle there.
+        let angle = [(a, b, c), (b, c, a), (c, a, b)]
+            .iter()
+            .find(|(x, _, _)| norm(sub(*x, at)) <= tie)
+            .map_or(std::f64::consts::PI, |&(x, y, z)| {
+                let (u, v) = (sub(y, x), sub(z, x));
+                norm(cross(u, v)).atan2(dot(u, v))
+            });
+        let n = unit_normal(t);
+        sum = std::array::from_fn(|k| sum[k] + angle * n[k]);
+    }
+    sum
 }
 
 /// Largest distance from any of `samples` to the triangles of `tree` and the sample that has
@@ -603,6 +649,28 @@ mod tests {
         quads.quads[4].reverse();
         quads.quads[7].reverse();
         assert_eq!(measure(&quad_grid(SQUARE, 3), &quads).flipped_quads, 2);
+    }
+
+    #[test]
+    fn a_quad_over_a_sharp_edge_is_judged_by_both_sides() {
+        // Two unit squares meeting at a right angle along the z axis (normals +y and +x), and
+        // a quad tilted a little from the first's plane over the edge: its centre is as near
+        // to both, and it faces the surface the way the two sides do together, whichever
+        // triangle the search meets first.
+        let e = [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
+        let positions = vec![e[0], e[1], [-1.0, 0.0, 0.0], [-1.0, 0.0, 1.0], [0.0, -1.0, 0.0], [0.0, -1.0, 1.0]];
+        let side_y = [[2, 3, 1], [2, 1, 0]];
+        let side_x = [[0, 1, 5], [0, 5, 4]];
+        let (c, u, v) = ([0.1, 0.1, 0.5], [0.2, 0.02, 0.0], [0.0, 0.0, 0.2]);
+        let at = |a: f64, b: f64| std::array::from_fn(|k| c[k] + a * u[k] + b * v[k]);
+        let quad = QuadMesh { positions: vec![at(-1.0, -1.0), at(-1.0, 1.0), at(1.0, 1.0), at(1.0, -1.0)], quads: vec![[0, 1, 2, 3]], vertex_node: vec![] };
+        let mut reversed = quad.clone();
+        reversed.quads[0].reverse();
+        for triangles in [[side_y, side_x].concat(), [side_x, side_y].concat()] {
+            let input = build_mesh(TriangleSoup { positions: positions.clone(), triangles, ..Default::default() }).unwrap().mesh;
+            assert_eq!(measure(&input, &quad).flipped_quads, 0);
+            assert_eq!(measure(&input, &reversed).flipped_quads, 1);
+        }
     }
 
     #[test]
