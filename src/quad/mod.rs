@@ -47,15 +47,17 @@ pub struct QuadOptions {
     /// edge_length² quads ([`density`]). Default (via [`QuadOptions::for_mesh`]): 1/40 of the
     /// bounding-box diagonal.
     pub edge_length: f64,
+    /// Rounds of relaxation on the surface ([`relax`]). Default: [`relax::ROUNDS`].
+    pub relax_rounds: usize,
 }
 
 impl QuadOptions {
     /// The default options for `mesh`.
     pub fn for_mesh(mesh: &Mesh) -> QuadOptions {
-        QuadOptions { edge_length: default_edge_length(mesh) }
+        QuadOptions::with_edge_length(default_edge_length(mesh))
     }
     pub fn with_edge_length(edge_length: f64) -> QuadOptions {
-        QuadOptions { edge_length }
+        QuadOptions { edge_length, relax_rounds: relax::ROUNDS }
     }
 }
 
@@ -539,7 +541,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     doublets::remove_marked(&mut pinned, &dropped);
     doublets::remove_marked(&mut squared, &dropped);
     let surface = relax::Surface::new(cut.triangles.iter().map(|t| t.map(|v| cut.positions[v as usize])).collect());
-    let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared);
+    let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared, options.relax_rounds);
     Ok((mesh, Extraction { counts, desired, outside_points: map.outside, relaxed_vertices }))
 }
 

@@ -152,10 +152,10 @@ fn badness(shapes: &[QuadState]) -> usize {
     shapes.iter().map(|s| 2 * usize::from(s.flipped) + usize::from(!s.convex)).sum()
 }
 
-/// Relaxes the vertices of `quads` not `pinned` on `surface`, [`ROUNDS`] rounds; only those
-/// that may be `squared` take steps down the skew (the others' quads keep the angles of
-/// their chart). Returns the number of vertices that moved.
-pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: &[bool]) -> usize {
+/// Relaxes the vertices of `quads` not `pinned` on `surface`, `rounds` rounds ([`ROUNDS`] in a
+/// remesh); only those that may be `squared` take steps down the skew (the others' quads keep
+/// the angles of their chart). Returns the number of vertices that moved.
+pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: &[bool], rounds: usize) -> usize {
     let n = quads.positions.len();
     let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
     let mut incident: Vec<Vec<u32>> = vec![Vec::new(); n];
@@ -217,7 +217,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
     let mut moves = 0u64;
     let mut moved_at = vec![0u64; n];
     let mut refused_at: Vec<Option<u64>> = vec![None; n];
-    for _ in 0..ROUNDS {
+    for _ in 0..rounds {
         for v in 0..n {
             if pinned[v] || neighbours[v].is_empty() {
                 continue;
@@ -386,7 +386,7 @@ mod tests {
     fn a_regular_grid_stays_as_it_is() {
         let (mut m, pinned) = grid(6, |_, _| [0.0; 2]);
         let before = m.positions.clone();
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()]);
+        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], ROUNDS);
         for (a, b) in m.positions.iter().zip(&before) {
             assert!(norm(sub(*a, *b)) < 1e-12, "{a:?} moved from {b:?}");
         }
@@ -398,7 +398,7 @@ mod tests {
         let (mut m, pinned) = grid(8, |i, j| [0.04 * (j as f64).sin(), 0.04 * (i as f64 * 1.7).cos()]);
         let before = m.clone();
         let skew = angle_deviation(&m);
-        let moved = relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()]);
+        let moved = relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], ROUNDS);
         assert!(moved > 0);
         assert!(angle_deviation(&m) < 0.5 * skew, "{} -> {}", skew, angle_deviation(&m));
         for v in 0..m.positions.len() {
@@ -415,6 +415,14 @@ mod tests {
     }
 
     #[test]
+    fn no_rounds_move_nothing() {
+        let (mut m, pinned) = grid(8, |i, j| [0.04 * (j as f64).sin(), 0.04 * (i as f64 * 1.7).cos()]);
+        let before = m.positions.clone();
+        assert_eq!(relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], 0), 0);
+        assert_eq!(m.positions, before);
+    }
+
+    #[test]
     fn a_vertex_folded_over_its_neighbour_is_unfolded() {
         // The only free vertex sits beyond the corner of its diagonal neighbour: its quads
         // fold. Moves that unfold are allowed, and none may fold anything again.
@@ -422,7 +430,7 @@ mod tests {
         let (mut m, pinned) = grid_free_at(4, v);
         m.positions[v] = [0.8, 0.8, 0.0];
         assert!(folded_quads(&m) > 0);
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()]);
+        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], ROUNDS);
         assert_eq!(folded_quads(&m), 0);
         assert!(norm(sub(m.positions[v], [0.5, 0.5, 0.0])) < 0.01, "{:?}", m.positions[v]);
     }
@@ -437,7 +445,7 @@ mod tests {
         m.positions[v] = [0.8, 0.8, 0.0];
         m.positions[v - 1][2] = 0.3;
         assert!(folded_quads(&m) > 0);
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()]);
+        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], ROUNDS);
         assert_eq!(folded_quads(&m), 0);
     }
 
@@ -460,7 +468,7 @@ mod tests {
         let least = search.map(|x| skew_at(&m, x)).fold(f64::INFINITY, f64::min);
         let mean = skew_at(&m, [0.575, 0.575]);
         assert!(mean > 1.5 * least, "the test needs a mean {mean} off the least skew {least}");
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()]);
+        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], ROUNDS);
         let p = m.positions[v];
         let relaxed = skew_at(&m, [p[0], p[1]]);
         assert!(relaxed < 1.001 * least, "relaxed to {p:?}: skew {relaxed}, the least {least}, the mean's {mean}");
@@ -474,7 +482,7 @@ mod tests {
         let (mut m, pinned) = grid_free_at(4, v);
         m.positions[v] = [0.5, 0.55, 0.0];
         assert_eq!(folded_quads(&m), 2);
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()]);
+        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], ROUNDS);
         assert_eq!(folded_quads(&m), 0);
         assert!(norm(sub(m.positions[v], [0.5, 0.0, 0.0])) < 0.02, "{:?}", m.positions[v]);
     }
