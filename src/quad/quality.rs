@@ -16,7 +16,7 @@
 //! about 1e150) are left out too. Means and maxima over nothing are 0, so an empty quad mesh
 //! measures all zeros (check `faces`), and every number is finite.
 
-use super::closest::{closest_point_on_triangle, TriangleTree};
+use super::closest::{closest_point_on_triangle, Hit, TriangleTree};
 use super::QuadMesh;
 use crate::geom::{cross, dot, norm, sub, Vec3};
 use crate::mesh::geometry::bounding_box;
@@ -336,17 +336,25 @@ fn is_flipped(input: &Mesh, tree: &TriangleTree, quad: Option<&[Vec3; 4]>) -> bo
     let Some(hit) = tree.closest(centroid) else {
         return false;
     };
-    dot(n, pseudo_normal(input, centroid, hit.triangle, hit.distance_squared.sqrt())) < 0.0
+    dot(n, pseudo_normal(input, centroid, &hit)) < 0.0
 }
 
-/// The surface's normal at the point of `input` nearest to `p` (at `distance`, on triangle
-/// `nearest`), as Bærentzen and Aanæs define it to tell the sides of a surface apart
+/// The distance from `p` to the segment from `a` to `b`.
+fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let (ab, ap) = (sub(b, a), sub(p, a));
+    let t = (dot(ab, ap) / dot(ab, ab)).clamp(0.0, 1.0);
+    let t = if t.is_finite() { t } else { 0.0 };
+    norm(sub(ap, ab.map(|x| x * t)))
+}
+
+/// The surface's normal at the point of `input` nearest to `p` (`hit`), as Bærentzen and Aanæs define it to tell the sides of a surface apart
 /// (*Signed distance computation using the angle weighted pseudonormal*, 2005): a
 /// triangle's normal inside it, the sum of the two normals on an edge, the sum weighted by
-/// the angles at a vertex. On an edge or a vertex the triangles round it are as near as
-/// `nearest`, and which of them the search returns is chance: a quad spanning a sharp edge
-/// of fandisk, facing along one side, counted as folded when the other side came first.
-fn pseudo_normal(input: &Mesh, p: Vec3, nearest: u32, distance: f64) -> Vec3 {
+/// the angles at a vertex. On an edge or a vertex the triangles round it are as near as the
+/// one the search returned, and which of them it returns is chance: a quad spanning a sharp
+/// edge of fandisk, facing along one side, counted as folded when the other side came first.
+fn pseudo_normal(input: &Mesh, p: Vec3, hit: &Hit) -> Vec3 {
+    let (nearest, distance) = (hit.triangle, hit.distance_squared.sqrt());
     let corners = |t: u32| input.triangles()[t as usize].map(|v| input.position(v));
     let unit_normal = |t: u32| {
         let [a, b, c] = corners(t);
@@ -357,6 +365,10 @@ fn pseudo_normal(input: &Mesh, p: Vec3, nearest: u32, distance: f64) -> Vec3 {
     let [a, b, c] = corners(nearest);
     let size = norm(sub(b, a)).max(norm(sub(c, a))).max(norm(sub(c, b)));
     let tie = 1e-9 * (distance + size);
+    // Inside its triangle (as a rule) the point has that triangle's normal alone.
+    if [(a, b), (b, c), (c, a)].iter().all(|&(x, y)| segment_distance(hit.point, x, y) > tie) {
+        return cross(sub(b, a), sub(c, a));
+    }
     let mut around: Vec<u32> = input.triangles()[nearest as usize]
         .iter()
         .flat_map(|&v| input.outgoing(v).map(|h| input.face(h)))
