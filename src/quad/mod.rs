@@ -540,7 +540,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     let dropped = doublets::dissolve(&mut mesh, &mut quad_face);
     doublets::remove_marked(&mut pinned, &dropped);
     doublets::remove_marked(&mut squared, &dropped);
-    let surface = relax::Surface::new(cut.triangles.iter().map(|t| t.map(|v| cut.positions[v as usize])).collect());
+    let surface = relax::Surface::new(&cut.positions, cut.triangles.clone());
     let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared, options.relax_rounds);
     Ok((mesh, Extraction { counts, desired, outside_points: map.outside, relaxed_vertices }))
 }

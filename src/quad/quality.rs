@@ -336,7 +336,12 @@ fn is_flipped(input: &Mesh, tree: &TriangleTree, quad: Option<&[Vec3; 4]>) -> bo
     let Some(hit) = tree.closest(centroid) else {
         return false;
     };
-    dot(n, pseudo_normal(input, centroid, &hit)) < 0.0
+    let corners = |t: u32| input.triangles()[t as usize].map(|v| input.position(v));
+    let around = || {
+        let corners = input.triangles()[hit.triangle as usize];
+        corners.iter().flat_map(|&v| input.outgoing(v).map(|h| input.face(h))).filter(|&t| t != NONE).collect()
+    };
+    dot(n, pseudo_normal(corners, around, centroid, &hit)) < 0.0
 }
 
 /// The distance from `p` to the segment from `a` to `b`.
@@ -347,15 +352,17 @@ fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
     norm(sub(ap, ab.map(|x| x * t)))
 }
 
-/// The surface's normal at the point of `input` nearest to `p` (`hit`), as Bærentzen and Aanæs define it to tell the sides of a surface apart
-/// (*Signed distance computation using the angle weighted pseudonormal*, 2005): a
-/// triangle's normal inside it, the sum of the two normals on an edge, the sum weighted by
-/// the angles at a vertex. On an edge or a vertex the triangles round it are as near as the
-/// one the search returned, and which of them it returns is chance: a quad spanning a sharp
-/// edge of fandisk, facing along one side, counted as folded when the other side came first.
-fn pseudo_normal(input: &Mesh, p: Vec3, hit: &Hit) -> Vec3 {
+/// The surface's normal at the point nearest to `p` (`hit`), as Bærentzen and Aanæs define
+/// it to tell the sides of a surface apart (*Signed distance computation using the angle
+/// weighted pseudonormal*, 2005): a triangle's normal inside it, the sum of the two normals on
+/// an edge, the sum weighted by the angles at a vertex. On an edge or a vertex the triangles
+/// round it are as near as the one the search returned, and which of them it returns is
+/// chance: a quad spanning a sharp edge of fandisk, facing along one side, counted as folded
+/// when the other side came first. `corners` gives a triangle's corners, `around` the
+/// triangles that share a vertex with the nearest one (asked only where the point lies on its
+/// border).
+pub(super) fn pseudo_normal(corners: impl Fn(u32) -> [Vec3; 3], around: impl FnOnce() -> Vec<u32>, p: Vec3, hit: &Hit) -> Vec3 {
     let (nearest, distance) = (hit.triangle, hit.distance_squared.sqrt());
-    let corners = |t: u32| input.triangles()[t as usize].map(|v| input.position(v));
     let unit_normal = |t: u32| {
         let [a, b, c] = corners(t);
         let n = cross(sub(b, a), sub(c, a));
@@ -369,11 +376,7 @@ fn pseudo_normal(input: &Mesh, p: Vec3, hit: &Hit) -> Vec3 {
     if [(a, b), (b, c), (c, a)].iter().all(|&(x, y)| segment_distance(hit.point, x, y) > tie) {
         return cross(sub(b, a), sub(c, a));
     }
-    let mut around: Vec<u32> = input.triangles()[nearest as usize]
-        .iter()
-        .flat_map(|&v| input.outgoing(v).map(|h| input.face(h)))
-        .filter(|&t| t != NONE)
-        .collect();
+    let mut around = around();
     around.sort_unstable();
     around.dedup();
     let mut sum = [0.0; 3];

@@ -24,7 +24,7 @@
 //! unfolds quads.
 
 use super::closest::TriangleTree;
-use super::quality::{corner_angle_deviations, quad_normal};
+use super::quality::{corner_angle_deviations, pseudo_normal, quad_normal};
 use super::QuadMesh;
 use crate::geom::{add, cross, dot, norm, scale, sub, unit, Vec3};
 
@@ -60,16 +60,44 @@ fn steepest_descent(p: Vec3, n: Vec3, span: f64, mut energy: impl FnMut(Vec3) ->
     (g > 0.0 && g.is_finite()).then(|| add(scale(-g1 / g, t1), scale(-g2 / g, t2)))
 }
 
-/// The surface the quads are relaxed on: its triangles and a tree over them.
+/// The surface the quads are relaxed on: its triangles, a tree over them, and the triangles
+/// round each vertex.
 pub struct Surface {
     triangles: Vec<[Vec3; 3]>,
+    indices: Vec<[u32; 3]>,
+    /// Triangles `round[start[v]..start[v + 1]]` have vertex `v`.
+    start: Vec<usize>,
+    round: Vec<u32>,
     tree: TriangleTree,
 }
 
 impl Surface {
-    pub fn new(triangles: Vec<[Vec3; 3]>) -> Surface {
+    /// The triangles `indices` over `positions`.
+    pub fn new(positions: &[Vec3], indices: Vec<[u32; 3]>) -> Surface {
+        let triangles: Vec<[Vec3; 3]> = indices.iter().map(|t| t.map(|v| positions[v as usize])).collect();
         let tree = TriangleTree::new(triangles.iter().copied());
-        Surface { triangles, tree }
+        let mut start = vec![0usize; positions.len() + 1];
+        indices.iter().flatten().for_each(|&v| start[v as usize + 1] += 1);
+        for v in 0..positions.len() {
+            start[v + 1] += start[v];
+        }
+        let mut round = vec![0u32; start[positions.len()]];
+        let mut next = start.clone();
+        for (t, corners) in indices.iter().enumerate() {
+            for &v in corners {
+                round[next[v as usize]] = t as u32;
+                next[v as usize] += 1;
+            }
+        }
+        Surface { triangles, indices, start, round, tree }
+    }
+
+    /// The surface's pseudo-normal at the point nearest to `p` (as [`super::quality`] counts
+    /// folded quads); `leaf` as [`TriangleTree::closest_from`] takes it.
+    fn facing(&self, p: Vec3, leaf: &mut u32) -> Option<Vec3> {
+        let hit = self.tree.closest_from(p, leaf)?;
+        let around = || self.indices[hit.triangle as usize].iter().flat_map(|&v| self.round[self.start[v as usize]..self.start[v as usize + 1]].iter().copied()).collect();
+        Some(pseudo_normal(|t| self.triangles[t as usize], around, p, &hit))
     }
 
     /// The nearest surface point to `p` and the unit normal of its triangle; `leaf` as
@@ -102,7 +130,7 @@ fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mu
         dot(cross(sub(d, b), sub(a, b)), normals[q[k] as usize]) > 0.0
     });
     let centre = scale(0.25, c.iter().fold([0.0; 3], |s, &x| add(s, x)));
-    let normal = surface.project(centre, leaf).map_or([0.0; 3], |(_, n)| n);
+    let normal = surface.facing(centre, leaf).unwrap_or([0.0; 3]);
     let flipped = dot(quad_normal(&c), normal) <= 0.0;
     QuadState { convex, flipped }
 }
@@ -367,7 +395,7 @@ mod tests {
     }
 
     fn plane() -> Surface {
-        Surface::new(vec![[[-1.0, -1.0, 0.0], [2.0, -1.0, 0.0], [2.0, 2.0, 0.0]], [[-1.0, -1.0, 0.0], [2.0, 2.0, 0.0], [-1.0, 2.0, 0.0]]])
+        Surface::new(&[[-1.0, -1.0, 0.0], [2.0, -1.0, 0.0], [2.0, 2.0, 0.0], [-1.0, 2.0, 0.0]], vec![[0, 1, 2], [0, 2, 3]])
     }
 
     /// Mean |corner angle − 90°| in degrees.
