@@ -96,7 +96,8 @@ impl Surface {
     /// folded quads); `leaf` as [`TriangleTree::closest_from`] takes it.
     fn facing(&self, p: Vec3, leaf: &mut u32) -> Option<Vec3> {
         let hit = self.tree.closest_from(p, leaf)?;
-        let around = || self.indices[hit.triangle as usize].iter().flat_map(|&v| self.round[self.start[v as usize]..self.start[v as usize + 1]].iter().copied()).collect();
+        let round = |v: u32| &self.round[self.start[v as usize]..self.start[v as usize + 1]];
+        let around = || self.indices[hit.triangle as usize].iter().flat_map(|&v| round(v).iter().copied()).collect();
         Some(pseudo_normal(|t| self.triangles[t as usize], around, p, &hit))
     }
 
