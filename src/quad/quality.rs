@@ -18,7 +18,7 @@
 
 use super::closest::{closest_point_on_triangle, Hit, TriangleTree};
 use super::QuadMesh;
-use crate::geom::{cross, dot, norm, sub, Vec3};
+use crate::geom::{self, add, cross, dot, norm, scale, sub, unit, Vec3};
 use crate::mesh::geometry::bounding_box;
 use crate::mesh::{Mesh, NONE};
 
@@ -363,12 +363,6 @@ fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
 /// border).
 pub(super) fn pseudo_normal(corners: impl Fn(u32) -> [Vec3; 3], around: impl FnOnce() -> Vec<u32>, p: Vec3, hit: &Hit) -> Vec3 {
     let (nearest, distance) = (hit.triangle, hit.distance_squared.sqrt());
-    let unit_normal = |t: u32| {
-        let [a, b, c] = corners(t);
-        let n = cross(sub(b, a), sub(c, a));
-        let l = norm(n);
-        if l > 0.0 { n.map(|x| x / l) } else { [0.0; 3] }
-    };
     let [a, b, c] = corners(nearest);
     let size = norm(sub(b, a)).max(norm(sub(c, a))).max(norm(sub(c, b)));
     let tie = 1e-9 * (distance + size);
@@ -391,12 +385,8 @@ pub(super) fn pseudo_normal(corners: impl Fn(u32) -> [Vec3; 3], around: impl FnO
         let angle = [(a, b, c), (b, c, a), (c, a, b)]
             .iter()
             .find(|(x, _, _)| norm(sub(*x, at)) <= tie)
-            .map_or(std::f64::consts::PI, |&(x, y, z)| {
-                let (u, v) = (sub(y, x), sub(z, x));
-                norm(cross(u, v)).atan2(dot(u, v))
-            });
-        let n = unit_normal(t);
-        sum = std::array::from_fn(|k| sum[k] + angle * n[k]);
+            .map_or(std::f64::consts::PI, |&(x, y, z)| geom::angle(sub(y, x), sub(z, x)));
+        sum = add(sum, scale(angle, unit(cross(sub(b, a), sub(c, a)))));
     }
     sum
 }
