@@ -8,6 +8,7 @@
 
 pub mod arcs;
 pub mod complex;
+pub mod corners;
 pub mod cross;
 pub mod curvature;
 pub mod faces;
