@@ -247,12 +247,19 @@ impl Tracings {
         let plain = Candidate { layout, surface, judged };
         // The same curves with their faces' corners chosen together, kept if their quads judge
         // no worse (irregular vertices fewer, but a face's corners may move to where its
-        // boundary turns less and shear its quads).
-        let Some((layout, surface)) = with_corners_together(mesh, &self.tracings[k], &plain.layout) else { return Ok(plain) };
-        let judged = judge(mesh, &surface, judged_at);
-        let together = Candidate { layout, surface, judged };
-        let kept = best(&[together.judged, plain.judged], &[0, 0]);
-        Ok(if kept == Some(0) { together } else { plain })
+        // boundary turns less and shear its quads), the larger budget first.
+        let mut versions: Vec<Candidate> = Vec::new();
+        for budget in CORNER_BUDGETS {
+            let Some((layout, surface)) = with_corners_together(mesh, &self.tracings[k], &plain.layout, budget) else { continue };
+            if versions.iter().all(|v| v.layout.patches != layout.patches) {
+                let judged = judge(mesh, &surface, judged_at);
+                versions.push(Candidate { layout, surface, judged });
+            }
+        }
+        versions.push(plain);
+        let judged: Vec<Option<Judged>> = versions.iter().map(|v| v.judged).collect();
+        let kept = best(&judged, &vec![0; judged.len()]).unwrap_or(judged.len() - 1);
+        Ok(versions.swap_remove(kept))
     }
 }
 
@@ -517,11 +524,11 @@ fn refine(
     (best.layout, best.surface)
 }
 
-/// `layout` with the corners of all its faces chosen together ([`corners::choose`]), if that
-/// moves any and the counts still hold.
-fn with_corners_together(mesh: &Mesh, field: &CrossField, layout: &Layout) -> Option<(Layout, SurfaceLayout)> {
+/// `layout` with the corners of all its faces chosen together ([`corners::choose`] within
+/// `budget`), if that moves any and the counts still hold.
+fn with_corners_together(mesh: &Mesh, field: &CrossField, layout: &Layout, budget: f64) -> Option<(Layout, SurfaceLayout)> {
     let unpatched = Layout { patches: Vec::new(), ..layout.clone() };
-    let w = write_patches(mesh, field, unpatched, CORNER_BUDGET, false).ok()?;
+    let w = write_patches(mesh, field, unpatched, budget, false).ok()?;
     (w.layout.patches != layout.patches).then_some((w.layout, w.surface))
 }
 
@@ -1033,12 +1040,13 @@ const CHORD_STEPS: usize = 4;
 
 /// The most the turns at a layout's chart corners may grow, summed over a chain of faces
 /// ([`corners::choose`]), to take away two irregular vertices: as much as one corner moved
-/// from a turn of 112.5° to one of 157.5°, each a quarter of the way from the right angle to
-/// the straight side. Measured over 26 meshes at --quads 4000 (the seven shared meshes,
-/// twelve of CGAL's, seven of ours), the judge keeping the corners chosen together only where
-/// their quads are no worse: with π/8 the mean angle deviation went 10.29 -> 10.13°, the
-/// irregular vertices 1397 -> 1403; with π/4 10.29 -> 9.73° and 1397 -> 1345.
-const CORNER_BUDGET: f64 = PI / 4.0;
+/// from a turn of 112.5° to one of 157.5° (each a quarter of the way from the right angle to
+/// the straight side), or half that. Each gives a version of the proposal, judged beside the
+/// plain one. Measured over 26 meshes at --quads 4000 (the seven shared meshes, twelve of
+/// CGAL's, seven of ours), either alone against none: with π/8 the mean angle deviation went
+/// 10.29 -> 10.13°, the irregular vertices 1397 -> 1403 (bunny_28k 84 -> 74, camel 138 ->
+/// 197); with π/4 10.29 -> 9.73° and 1397 -> 1345 (bunny_28k's version judged worse).
+const CORNER_BUDGETS: [f64; 2] = [PI / 4.0, PI / 8.0];
 
 /// The face's angle at each of its nodes, in the node's tangent plane, measured between
 /// chords along its two curves (a trace zig-zags along mesh edges: its first edge says little).
@@ -1277,7 +1285,7 @@ mod tests {
         let tracings = Tracings::new(&mesh, &options).unwrap();
         let field = &tracings.tracings[0];
         let (layout, surface) = propose_along(&mesh, field, &options).unwrap();
-        let (together, surface_together) = with_corners_together(&mesh, field, &layout).unwrap();
+        let (together, surface_together) = with_corners_together(&mesh, field, &layout, CORNER_BUDGETS[0]).unwrap();
         assert_eq!(together.edges, layout.edges);
         let (before, after) = (irregular_nodes(&mesh, &surface), irregular_nodes(&mesh, &surface_together));
         assert!(after + 2 <= before, "{before} -> {after}");
