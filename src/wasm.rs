@@ -7,7 +7,7 @@ use crate::clock::now;
 use crate::culprits::Culprits;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh, ReadError};
-use crate::field::{compute_field, pick, propose_layout, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
+use crate::field::{compute_field, pick, propose_layout, with_corners_chosen, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
 use crate::layout::{build_layout_on, curve, parse_layout, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, SurfaceLayout};
 use crate::mesh::{repair_mesh, RepairOptions};
 use crate::param::chart::ChartKind;
@@ -313,6 +313,30 @@ impl Session {
         let (judged, curves) = c.summary();
         let p = Proposal { layout: c.layout, field: tracings.field, surface: c.surface };
         to_js(&Suggestion { tracings: n, judged, curves: Some(curves), ..made(p) })
+    }
+
+    /// The last step of a suggestion made apart (`suggestLayout` with `tracing` in workers,
+    /// then [`pick_suggestion`]), as `suggestLayout` without `tracing` ends: `text` and
+    /// `judged` are the kept proposal's layout file and judged quads as it answered, `options`
+    /// the same as it got. Returns `{ layout, judged }`: that layout, or a version of it with
+    /// the corners of all faces chosen together where its quads judge no worse. Throws the
+    /// layout's error, or the field's.
+    #[wasm_bindgen(js_name = chooseCorners)]
+    pub fn choose_corners(&self, text: &str, judged: JsValue, options: JsValue) -> Result<JsValue, Thrown> {
+        let (opts, _) = layout_options(options, "chooseCorners", &["patches", "featureAngle"])?;
+        let judged: Option<Judged> = serde_wasm_bindgen::from_value(judged)
+            .map_err(|e| Thrown::new("bad_options", format!("chooseCorners: judged must be {{ hausdorff, score }} or null: {e}")))?;
+        let mesh = &self.loaded.mesh;
+        let layout = parse_layout(text)?;
+        let surface = build_layout_on(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
+        let field = compute_field(mesh, opts.feature_angle).map_err(|e| Thrown::new(e.kind(), ProposeError::Field(e).to_string()))?;
+        let kept = with_corners_chosen(mesh, &field, Candidate { layout, surface, judged }, &opts);
+        #[derive(Serialize)]
+        struct Chosen {
+            layout: String,
+            judged: Option<Judged>,
+        }
+        to_js(&Chosen { layout: write_layout(&kept.layout), judged: kept.judged })
     }
 
     /// The surface's cross field alone, for the page's field view: `options`

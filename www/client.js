@@ -158,6 +158,17 @@ export class CoreClient {
   }
 
   /**
+   * The kept proposal or a version with its corners chosen together; resolves to
+   * { layout, judged } (protocol.js).
+   * @param {string} text
+   * @param {{hausdorff: number, score: number}|null} judged
+   * @param {{patches?: number, featureAngle?: number}} options
+   */
+  chooseCorners(text, judged, options) {
+    return this.request(MSG.CHOOSE_CORNERS, { text, judged, options });
+  }
+
+  /**
    * Another client on a worker of its own with this one's mesh (none while it has none),
    * for work that runs beside this one's; `terminate()` it when done.
    * @returns {Promise<CoreClient>}

@@ -142,4 +142,14 @@ export const MSG = Object.freeze({
    * result: the index of the one to keep, or null if none was made
    */
   PICK_SUGGESTION: 'pick-suggestion',
+  /**
+   * The last step of proposals made apart: the one PICK_SUGGESTION kept, or a version of it
+   * with the corners of all faces chosen together where its quads judge no worse, as SUGGEST
+   * without `tracing` ends.
+   * args:   { text: string, judged: { hausdorff, score } | null (as SUGGEST answered them),
+   *           options (as SUGGEST got them) }
+   * result: { layout: string — the layout file (format v1), judged: { hausdorff, score } | null }
+   * On error: the layout's or the field's, in words.
+   */
+  CHOOSE_CORNERS: 'choose-corners',
 });

@@ -225,7 +225,8 @@ export class Suggester {
     const kept = await this.client.pickSuggestion(made.map((a) => (a.text == null ? null : { judged: a.judged, curves: a.curves })));
     // None made: the first tracing's reason, as one request gives it.
     if (kept == null) throw new CoreError(made.find((a) => a.error)?.error ?? 'no layout was made', { kind: 'no_layout_proposed' });
-    return { ...made[kept], seconds: (performance.now() - t0) / 1000, workers };
+    const { layout } = await this.client.chooseCorners(made[kept].text, made[kept].judged, options);
+    return { ...made[kept], text: layout, seconds: (performance.now() - t0) / 1000, workers };
   }
 
   /** Shows why no layout was proposed, in words; returns the error. */

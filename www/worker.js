@@ -98,6 +98,10 @@ const handlers = {
   [MSG.PICK_SUGGESTION]({ candidates }) {
     return { result: pickSuggestion(candidates) ?? null };
   },
+  [MSG.CHOOSE_CORNERS]({ text, judged = null, options = {} }) {
+    if (!session) throw new Error('load a mesh first');
+    return { result: session.chooseCorners(text, judged, options) };
+  },
 };
 
 /** The core's field view (flat arrays) as protocol.js states CrossField. */

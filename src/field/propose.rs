@@ -31,9 +31,9 @@
 //!    others get a cross of traces where it concentrates, and steps 4–5 run again, while the
 //!    layout's distortion goes down; then a long side of a sliver face goes while the
 //!    integer sample counts come nearer what the curves ask for (`refine`, [`sliver_sides`]).
-//! 7. A second version of the proposal has the corners of all faces chosen together, with
-//!    fewer irregular vertices ([`super::corners`]); the judge keeps it where its quads are no
-//!    worse.
+//! 7. The proposal kept gets versions with the corners of all faces chosen together, with
+//!    fewer irregular vertices ([`super::corners`], [`with_corners_chosen`]); the judge keeps
+//!    one where its quads are no worse.
 
 use super::arcs::{arc_across, arc_round_handle};
 use super::corners::{self, FaceTurns};
@@ -187,7 +187,10 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
     let mut error = None;
     for (i, c) in candidates.into_iter().enumerate() {
         match c {
-            Ok(c) if Some(i) == kept => return Ok(Proposal { layout: c.layout, field: tracings.field, surface: c.surface }),
+            Ok(c) if Some(i) == kept => {
+                let c = with_corners_chosen(mesh, &tracings.field, c, options);
+                return Ok(Proposal { layout: c.layout, field: tracings.field, surface: c.surface });
+            }
             Err(e) => error = error.or(Some(e)),
             Ok(_) => {}
         }
@@ -242,25 +245,39 @@ impl Tracings {
     pub fn candidate(&self, mesh: &Mesh, k: usize, options: &LayoutOptions) -> Result<Candidate, ProposeError> {
         let (layout, surface) = propose_along(mesh, &self.tracings[k], options)?;
         // At most JUDGE_QUADS quads: three remeshes run at once, and the ranking needs no more.
-        let judged_at = options.edge_length.unwrap_or_else(|| JUDGE_SHARE * default_edge_length(mesh)).max(edge_length_for_quads(mesh, JUDGE_QUADS));
-        let judged = judge(mesh, &surface, judged_at);
-        let plain = Candidate { layout, surface, judged };
-        // The same curves with their faces' corners chosen together, kept if their quads judge
-        // no worse (irregular vertices fewer, but a face's corners may move to where its
-        // boundary turns less and shear its quads), the larger budget first.
-        let mut versions: Vec<Candidate> = Vec::new();
-        for budget in CORNER_BUDGETS {
-            let Some((layout, surface)) = with_corners_together(mesh, &self.tracings[k], &plain.layout, budget) else { continue };
-            if versions.iter().all(|v| v.layout.patches != layout.patches) {
-                let judged = judge(mesh, &surface, judged_at);
-                versions.push(Candidate { layout, surface, judged });
+        let judged = judge(mesh, &surface, judged_length(mesh, options));
+        Ok(Candidate { layout, surface, judged })
+    }
+}
+
+/// The quad edge length proposals are judged at: the one asked for, else [`JUDGE_SHARE`] of
+/// the default, and at most [`JUDGE_QUADS`] quads (three remeshes run at once, and the
+/// ranking needs no more).
+fn judged_length(mesh: &Mesh, options: &LayoutOptions) -> f64 {
+    options.edge_length.unwrap_or_else(|| JUDGE_SHARE * default_edge_length(mesh)).max(edge_length_for_quads(mesh, JUDGE_QUADS))
+}
+
+/// The kept proposal, or one of its versions with the corners of all faces chosen together
+/// ([`corners::choose`], one per [`CORNER_BUDGETS`]) where the judge finds its quads no worse
+/// ([`best`]; a tie keeps the larger budget's): fewer irregular vertices, but a face's
+/// corners may move to where its boundary turns less and shear its quads. `field`: the one
+/// the proposal was made with (any of [`Tracings`]': they differ in their iso-lines only).
+pub fn with_corners_chosen(mesh: &Mesh, field: &CrossField, plain: Candidate, options: &LayoutOptions) -> Candidate {
+    let length = judged_length(mesh, options);
+    let mut versions: Vec<(Layout, SurfaceLayout)> = Vec::new();
+    for budget in CORNER_BUDGETS {
+        if let Some(v) = with_corners_together(mesh, field, &plain.layout, budget) {
+            if versions.iter().all(|w| w.0.patches != v.0.patches) {
+                versions.push(v);
             }
         }
-        versions.push(plain);
-        let judged: Vec<Option<Judged>> = versions.iter().map(|v| v.judged).collect();
-        let kept = best(&judged, &vec![0; judged.len()]).unwrap_or(judged.len() - 1);
-        Ok(versions.swap_remove(kept))
     }
+    let judged = at_once(&versions, |v| judge(mesh, &v.1, length));
+    let mut all: Vec<Candidate> = versions.into_iter().zip(judged).map(|((layout, surface), judged)| Candidate { layout, surface, judged }).collect();
+    all.push(plain);
+    let scores: Vec<Option<Judged>> = all.iter().map(|c| c.judged).collect();
+    let kept = best(&scores, &vec![0; scores.len()]).unwrap_or(scores.len() - 1);
+    all.swap_remove(kept)
 }
 
 /// Which of the candidates (one per tracing, in order; `None` where none was made, else its
@@ -1258,10 +1275,11 @@ mod tests {
         let options = LayoutOptions::default();
         let tracings = Tracings::new(&mesh, &options).unwrap();
         assert_eq!(tracings.count(), 3);
-        let made: Vec<Candidate> = (0..tracings.count()).map(|k| tracings.candidate(&mesh, k, &options).unwrap()).collect();
+        let mut made: Vec<Candidate> = (0..tracings.count()).map(|k| tracings.candidate(&mesh, k, &options).unwrap()).collect();
         let kept = propose_layout(&mesh, &options).unwrap();
         let i = pick(&made.iter().map(|c| Some(c.summary())).collect::<Vec<_>>()).unwrap();
-        assert_eq!(kept.layout, made[i].layout);
+        let chosen = with_corners_chosen(&mesh, &tracings.field, made.swap_remove(i), &options);
+        assert_eq!(kept.layout, chosen.layout);
     }
 
     /// Nodes where the quads of `surface` meet other than four at a time (once per face a node

@@ -150,8 +150,10 @@ test('proposals made apart and picked are the one suggestion', () => {
     assert.equal(beyond.layout, null);
     assert.equal(beyond.error, null);
     const kept = pickSuggestion(made.map(({ judged, curves }) => ({ judged, curves })));
-    assert.equal(made[kept].layout, whole.layout);
+    const chosen = s.chooseCorners(made[kept].layout, made[kept].judged, {});
+    assert.equal(chosen.layout, whole.layout);
     assert.deepEqual(made[kept].field, whole.field);
+    assert.throws(() => s.chooseCorners(made[kept].layout, { hausdorff: 'far' }, {}), /judged must be/);
     // A proposal that failed is null; none made: null, and the first one's error is what one
     // call throws (a tetrahedron: no face of a layout has a vertex inside).
     const tet = new Session(obj('v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n'), 'tet.obj');
