@@ -7,9 +7,9 @@ use crate::clock::now;
 use crate::culprits::Culprits;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh, ReadError};
-use crate::field::{compute_field, pick, propose_layout, with_corners_chosen, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
+use crate::field::{compute_field, pick, with_corners_chosen, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
 use crate::layout::{build_layout_on, curve, parse_layout, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, SurfaceLayout};
-use crate::mesh::{repair_mesh, RepairOptions};
+use crate::mesh::{repair_mesh, Mesh, RepairOptions};
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
 use crate::param::{ParamError, ParamOptions, ParamSession};
@@ -38,6 +38,19 @@ pub struct Session {
     /// Seconds spent reading the mesh and placing the layout (for the report).
     load_seconds: f64,
     layout_seconds: f64,
+    /// The cross field and tracings of the last suggestion, with the feature angle they were
+    /// made with: a page's worker asks for its tracings one after the other, then for the
+    /// corners of the one kept, and each would make them again.
+    tracings: Option<(f64, Tracings)>,
+}
+
+/// The tracings of `cache` if they were made with `options`' feature angle, else made now
+/// and kept there.
+fn cached<'a>(cache: &'a mut Option<(f64, Tracings)>, mesh: &Mesh, options: &LayoutOptions) -> Result<&'a Tracings, ProposeError> {
+    if !matches!(cache, Some((angle, _)) if *angle == options.feature_angle) {
+        *cache = Some((options.feature_angle, Tracings::new(mesh, options)?));
+    }
+    Ok(&cache.as_ref().expect("made above").1)
 }
 
 struct Run {
@@ -212,7 +225,7 @@ impl Session {
             loaded = LoadedMesh { mesh, repairs: made, format: loaded.format };
         }
         let load_seconds = now() - t0;
-        Ok(Session { loaded, as_read, layout: None, param: None, kept: Vec::new(), load_seconds, layout_seconds: 0.0 })
+        Ok(Session { loaded, as_read, layout: None, param: None, kept: Vec::new(), load_seconds, layout_seconds: 0.0, tracings: None })
     }
 
     /// Vertex positions, xyz interleaved, as `Float32Array`.
@@ -279,7 +292,7 @@ impl Session {
     /// proposal along it could not be made. The page makes the proposals in workers of their
     /// own, at once.
     #[wasm_bindgen(js_name = suggestLayout)]
-    pub fn suggest_layout(&self, options: JsValue) -> Result<JsValue, Thrown> {
+    pub fn suggest_layout(&mut self, options: JsValue) -> Result<JsValue, Thrown> {
         let (opts, tracing) = layout_options(options, "suggestLayout", &["patches", "featureAngle", "tracing"])?;
         let mesh = &self.loaded.mesh;
         let failed = |e: ProposeError| Thrown::new("no_layout_proposed", e.to_string());
@@ -297,10 +310,10 @@ impl Session {
             let note = p.patches_note(opts.patches);
             Suggestion { layout: Some(write_layout(&p.layout)), field: Some(p.field.view(mesh)), note, ..Default::default() }
         };
+        let tracings = cached(&mut self.tracings, mesh, &opts).map_err(failed)?;
         let Some(k) = tracing else {
-            return to_js(&made(propose_layout(mesh, &opts).map_err(failed)?));
+            return to_js(&made(tracings.propose(mesh, &opts).map_err(failed)?));
         };
-        let tracings = Tracings::new(mesh, &opts).map_err(failed)?;
         let n = Some(tracings.count());
         if k >= tracings.count() {
             return to_js(&Suggestion { tracings: n, ..Default::default() });
@@ -311,7 +324,7 @@ impl Session {
             Err(e) => return to_js(&Suggestion { tracings: n, error: Some(e.to_string()), ..Default::default() }),
         };
         let (judged, curves) = c.summary();
-        let p = Proposal { layout: c.layout, field: tracings.field, surface: c.surface };
+        let p = Proposal { layout: c.layout, field: tracings.field.clone(), surface: c.surface };
         to_js(&Suggestion { tracings: n, judged, curves: Some(curves), ..made(p) })
     }
 
@@ -322,15 +335,15 @@ impl Session {
     /// the corners of all faces chosen together where its quads judge no worse. Throws the
     /// layout's error, or the field's.
     #[wasm_bindgen(js_name = chooseCorners)]
-    pub fn choose_corners(&self, text: &str, judged: JsValue, options: JsValue) -> Result<JsValue, Thrown> {
+    pub fn choose_corners(&mut self, text: &str, judged: JsValue, options: JsValue) -> Result<JsValue, Thrown> {
         let (opts, _) = layout_options(options, "chooseCorners", &["patches", "featureAngle"])?;
         let judged: Option<Judged> = serde_wasm_bindgen::from_value(judged)
             .map_err(|e| Thrown::new("bad_options", format!("chooseCorners: judged must be {{ hausdorff, score }} or null: {e}")))?;
         let mesh = &self.loaded.mesh;
         let layout = parse_layout(text)?;
         let surface = build_layout_on(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
-        let field = compute_field(mesh, opts.feature_angle).map_err(|e| Thrown::new(e.kind(), ProposeError::Field(e).to_string()))?;
-        let kept = with_corners_chosen(mesh, &field, Candidate { layout, surface, judged }, &opts);
+        let tracings = cached(&mut self.tracings, mesh, &opts).map_err(|e| Thrown::new("no_layout_proposed", e.to_string()))?;
+        let kept = with_corners_chosen(mesh, &tracings.field, Candidate { layout, surface, judged }, &opts);
         #[derive(Serialize)]
         struct Chosen {
             layout: String,

@@ -181,21 +181,7 @@ const JUDGE_SHARE: f64 = 0.5;
 /// [`ProposeError::Field`] if the field's solve fails; [`ProposeError::NoValidLayout`] if the
 /// repairs cannot make a layout that the reader accepts and that has consistent sample counts.
 pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
-    let tracings = Tracings::new(mesh, options)?;
-    let candidates = at_once(&(0..tracings.count()).collect::<Vec<_>>(), |&k| tracings.candidate(mesh, k, options));
-    let kept = pick(&candidates.iter().map(|c| c.as_ref().ok().map(Candidate::summary)).collect::<Vec<_>>());
-    let mut error = None;
-    for (i, c) in candidates.into_iter().enumerate() {
-        match c {
-            Ok(c) if Some(i) == kept => {
-                let c = with_corners_chosen(mesh, &tracings.field, c, options);
-                return Ok(Proposal { layout: c.layout, field: tracings.field, surface: c.surface });
-            }
-            Err(e) => error = error.or(Some(e)),
-            Ok(_) => {}
-        }
-    }
-    Err(error.unwrap_or_else(|| ProposeError::NoValidLayout("nothing was tried".into())))
+    Tracings::new(mesh, options)?.propose(mesh, options)
 }
 
 /// The cross field and what the proposals' traces follow: the field itself and the iso-lines
@@ -230,6 +216,30 @@ impl Tracings {
         let isos = iso_lines(mesh, &field).map_or(Vec::new(), Vec::from);
         let tracings = std::iter::once(field.clone()).chain(isos.into_iter().map(|iso| CrossField { iso, ..field.clone() })).collect();
         Ok(Tracings { field, tracings })
+    }
+
+    /// [`propose_layout`] with these tracings (made with `options`' feature angle): the
+    /// proposals along every tracing at once, the one [`pick`] keeps, its corners chosen
+    /// ([`with_corners_chosen`]).
+    ///
+    /// # Errors
+    /// [`ProposeError::NoValidLayout`] if no tracing gives a valid layout (the first one's
+    /// reason).
+    pub fn propose(&self, mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
+        let candidates = at_once(&(0..self.count()).collect::<Vec<_>>(), |&k| self.candidate(mesh, k, options));
+        let kept = pick(&candidates.iter().map(|c| c.as_ref().ok().map(Candidate::summary)).collect::<Vec<_>>());
+        let mut error = None;
+        for (i, c) in candidates.into_iter().enumerate() {
+            match c {
+                Ok(c) if Some(i) == kept => {
+                    let c = with_corners_chosen(mesh, &self.field, c, options);
+                    return Ok(Proposal { layout: c.layout, field: self.field.clone(), surface: c.surface });
+                }
+                Err(e) => error = error.or(Some(e)),
+                Ok(_) => {}
+            }
+        }
+        Err(error.unwrap_or_else(|| ProposeError::NoValidLayout("nothing was tried".into())))
     }
 
     /// How many proposals there are to make.

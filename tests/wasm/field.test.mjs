@@ -154,6 +154,16 @@ test('proposals made apart and picked are the one suggestion', () => {
     assert.equal(chosen.layout, whole.layout);
     assert.deepEqual(made[kept].field, whole.field);
     assert.throws(() => s.chooseCorners(made[kept].layout, { hausdorff: 'far' }, {}), /judged must be/);
+    // The session keeps the tracings of the last feature angle only: another angle is
+    // another field, as a fresh session makes it.
+    const fresh = new Session(read('mushroom.obj'), 'mushroom.obj');
+    try {
+      const sharper = s.suggestLayout({ featureAngle: 5 }).layout;
+      assert.notEqual(sharper, whole.layout);
+      assert.equal(sharper, fresh.suggestLayout({ featureAngle: 5 }).layout);
+    } finally {
+      fresh.free();
+    }
     // A proposal that failed is null; none made: null, and the first one's error is what one
     // call throws (a tetrahedron: no face of a layout has a vertex inside).
     const tet = new Session(obj('v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n'), 'tet.obj');
