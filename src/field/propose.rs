@@ -254,7 +254,6 @@ impl Tracings {
     /// [`ProposeError::NoValidLayout`] if the repairs cannot make a valid layout along it.
     pub fn candidate(&self, mesh: &Mesh, k: usize, options: &LayoutOptions) -> Result<Candidate, ProposeError> {
         let (layout, surface) = propose_along(mesh, &self.tracings[k], options)?;
-        // At most JUDGE_QUADS quads: three remeshes run at once, and the ranking needs no more.
         let judged = judge(mesh, &surface, judged_length(mesh, options));
         Ok(Candidate { layout, surface, judged })
     }
