@@ -8,7 +8,7 @@ use crate::culprits::Culprits;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh, ReadError};
 use crate::field::{compute_field, pick, with_corners_chosen, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
-use crate::layout::{build_layout_on, curve, parse_layout, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, SurfaceLayout};
+use crate::layout::{build_layout_on, curve, parse_layout, place, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, SurfaceLayout};
 use crate::mesh::{repair_mesh, Mesh, RepairOptions};
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
@@ -341,9 +341,10 @@ impl Session {
             .map_err(|e| Thrown::new("bad_options", format!("chooseCorners: judged must be {{ hausdorff, score }} or null: {e}")))?;
         let mesh = &self.loaded.mesh;
         let layout = parse_layout(text)?;
-        let surface = build_layout_on(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
+        let placed = place(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
+        let surface = placed.with_patches(mesh, &layout).map_err(|e| layout_error(e, &layout))?;
         let tracings = cached(&mut self.tracings, mesh, &opts).map_err(|e| Thrown::new("no_layout_proposed", e.to_string()))?;
-        let kept = with_corners_chosen(mesh, &tracings.field, Candidate { layout, surface, judged }, &opts);
+        let kept = with_corners_chosen(mesh, &tracings.field, &placed, Candidate { layout, surface, judged }, &opts);
         #[derive(Serialize)]
         struct Chosen {
             layout: String,

@@ -48,7 +48,7 @@ use super::waypoints::sparse_waypoints;
 use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
-use crate::layout::{curve, face_named_by, place, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, SurfaceLayout, MAX_WAYPOINTS};
+use crate::layout::{curve, face_named_by, place, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, Placement, SurfaceLayout, MAX_WAYPOINTS};
 use crate::geom::{norm, sub, Vec3};
 use crate::mesh::geometry::corner_angle;
 use crate::mesh::topology::topology;
@@ -232,7 +232,11 @@ impl Tracings {
         for (i, c) in candidates.into_iter().enumerate() {
             match c {
                 Ok(c) if Some(i) == kept => {
-                    let c = with_corners_chosen(mesh, &self.field, c, options);
+                    // Placed once more (the placement was not kept), for both versions.
+                    let c = match place(mesh, &c.layout, MeshCounts::of(mesh)) {
+                        Ok(placed) => with_corners_chosen(mesh, &self.field, &placed, c, options),
+                        Err(_) => c,
+                    };
                     return Ok(Proposal { layout: c.layout, field: self.field.clone(), surface: c.surface });
                 }
                 Err(e) => error = error.or(Some(e)),
@@ -270,12 +274,13 @@ fn judged_length(mesh: &Mesh, options: &LayoutOptions) -> f64 {
 /// ([`corners::choose`], one per [`CORNER_BUDGETS`]) where the judge finds its quads no worse
 /// ([`best`]; a tie keeps the larger budget's): fewer irregular vertices, but a face's
 /// corners may move to where its boundary turns less and shear its quads. `field`: the one
-/// the proposal was made with (any of [`Tracings`]': they differ in their iso-lines only).
-pub fn with_corners_chosen(mesh: &Mesh, field: &CrossField, plain: Candidate, options: &LayoutOptions) -> Candidate {
+/// the proposal was made with (any of [`Tracings`]': they differ in their iso-lines only);
+/// `placed`: its layout placed on `mesh` (each version changes only the corners).
+pub fn with_corners_chosen(mesh: &Mesh, field: &CrossField, placed: &Placement, plain: Candidate, options: &LayoutOptions) -> Candidate {
     let length = judged_length(mesh, options);
     let mut versions: Vec<(Layout, SurfaceLayout)> = Vec::new();
     for budget in CORNER_BUDGETS {
-        if let Some(v) = with_corners_together(mesh, field, &plain.layout, budget) {
+        if let Some(v) = with_corners_together(mesh, field, placed, &plain.layout, budget) {
             if versions.iter().all(|w| w.0.patches != v.0.patches) {
                 versions.push(v);
             }
@@ -550,11 +555,11 @@ fn refine(
     (best.layout, best.surface)
 }
 
-/// `layout` with the corners of all its faces chosen together ([`corners::choose`] within
-/// `budget`), if that moves any and the counts still hold.
-fn with_corners_together(mesh: &Mesh, field: &CrossField, layout: &Layout, budget: f64) -> Option<(Layout, SurfaceLayout)> {
+/// `layout` (as `placed`) with the corners of all its faces chosen together
+/// ([`corners::choose`] within `budget`), if that moves any and the counts still hold.
+fn with_corners_together(mesh: &Mesh, field: &CrossField, placed: &Placement, layout: &Layout, budget: f64) -> Option<(Layout, SurfaceLayout)> {
     let unpatched = Layout { patches: Vec::new(), ..layout.clone() };
-    let w = write_patches(mesh, field, unpatched, budget, false).ok()?;
+    let w = write_patches(mesh, field, placed, unpatched, budget, false).ok()?;
     (w.layout.patches != layout.patches).then_some((w.layout, w.surface))
 }
 
@@ -1188,15 +1193,15 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
         mesh: Some(MeshCounts::of(mesh)),
         ..Default::default()
     };
-    write_patches(mesh, field, layout, 0.0, set_up)
+    // Placed once: the patches change only the corners.
+    let placed = place(mesh, &layout, MeshCounts::of(mesh)).map_err(Rejected::Layout)?;
+    write_patches(mesh, field, &placed, layout, 0.0, set_up)
 }
 
-/// `layout` (without patches) with a rectangle chart on every face and the corners
+/// `layout` (without patches, as `placed`) with a rectangle chart on every face and the corners
 /// [`corners::choose`] picks within `corner_budget`, checked by the layout reader and the
 /// sample-count equations (and the parameterization's set-up where asked).
-fn write_patches(mesh: &Mesh, field: &CrossField, mut layout: Layout, corner_budget: f64, set_up: bool) -> Result<Written, Rejected> {
-    // Placed once: the patches below change only the corners.
-    let placed = place(mesh, &layout, MeshCounts::of(mesh)).map_err(Rejected::Layout)?;
+fn write_patches(mesh: &Mesh, field: &CrossField, placed: &Placement, mut layout: Layout, corner_budget: f64, set_up: bool) -> Result<Written, Rejected> {
     let surface = placed.with_patches(mesh, &layout).map_err(Rejected::Layout)?;
     // Corners where the face turns most, measured along the curves rather than on their
     // first mesh edge (a trace zig-zags along edges). Every face gets a rectangle: the
@@ -1287,7 +1292,8 @@ mod tests {
         let mut made: Vec<Candidate> = (0..tracings.count()).map(|k| tracings.candidate(&mesh, k, &options).unwrap()).collect();
         let kept = propose_layout(&mesh, &options).unwrap();
         let i = pick(&made.iter().map(|c| Some(c.summary())).collect::<Vec<_>>()).unwrap();
-        let chosen = with_corners_chosen(&mesh, &tracings.field, made.swap_remove(i), &options);
+        let placed = place(&mesh, &made[i].layout, MeshCounts::of(&mesh)).unwrap();
+        let chosen = with_corners_chosen(&mesh, &tracings.field, &placed, made.swap_remove(i), &options);
         assert_eq!(kept.layout, chosen.layout);
     }
 
@@ -1312,7 +1318,8 @@ mod tests {
         let tracings = Tracings::new(&mesh, &options).unwrap();
         let field = &tracings.tracings[0];
         let (layout, surface) = propose_along(&mesh, field, &options).unwrap();
-        let (together, surface_together) = with_corners_together(&mesh, field, &layout, CORNER_BUDGETS[0]).unwrap();
+        let placed = place(&mesh, &layout, MeshCounts::of(&mesh)).unwrap();
+        let (together, surface_together) = with_corners_together(&mesh, field, &placed, &layout, CORNER_BUDGETS[0]).unwrap();
         assert_eq!(together.edges, layout.edges);
         let (before, after) = (irregular_nodes(&mesh, &surface), irregular_nodes(&mesh, &surface_together));
         assert!(after + 2 <= before, "{before} -> {after}");
