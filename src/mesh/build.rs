@@ -209,6 +209,26 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// Halfedge construction. Face corners `c = 3f + k` stand for the directed edge from
 /// `triangles[f][k]` to `triangles[f][k+1]`; corners are bucketed by their source vertex
 /// so the opposite corner of each edge is found without hashing.
+/// The corners of `triangles` (corner `c` is vertex `c % 3` of triangle `c / 3`) bucketed by
+/// vertex, as compressed rows: vertex `v`'s corners, in increasing order, are
+/// `corners[start[v]..start[v + 1]]` (`start` has `n_vertices + 1` entries).
+pub fn corners_by_vertex(n_vertices: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; n_vertices + 1];
+    for &v in triangles.iter().flatten() {
+        start[v as usize + 1] += 1;
+    }
+    for v in 0..n_vertices {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut corners = vec![0u32; 3 * triangles.len()];
+    for (c, &v) in triangles.iter().flatten().enumerate() {
+        corners[fill[v as usize] as usize] = c as u32;
+        fill[v as usize] += 1;
+    }
+    (start, corners)
+}
+
 fn connect(
     positions: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
@@ -220,22 +240,7 @@ fn connect(
     let corner_to = |c: usize| triangles[c / 3][(c % 3 + 1) % 3];
 
     // Corners bucketed by source vertex (CSR).
-    let mut start = vec![0u32; nv + 1];
-    for t in &triangles {
-        for &v in t {
-            start[v as usize + 1] += 1;
-        }
-    }
-    for v in 0..nv {
-        start[v + 1] += start[v];
-    }
-    let mut fill = start.clone();
-    let mut by_source = vec![0u32; nc];
-    for c in 0..nc {
-        let a = corner_from(c) as usize;
-        by_source[fill[a] as usize] = c as u32;
-        fill[a] += 1;
-    }
+    let (start, mut by_source) = corners_by_vertex(nv, &triangles);
     // Sorted by target, so the corners of one directed edge are found by binary search
     // (a plain scan is quadratic at vertices of huge valence, e.g. big PLY polygons).
     for v in 0..nv {

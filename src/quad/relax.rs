@@ -27,6 +27,7 @@ use super::closest::TriangleTree;
 use super::quality::{corner_angle_deviations, pseudo_normal, quad_normal};
 use super::QuadMesh;
 use crate::geom::{add, cross, dot, norm, scale, sub, unit, Vec3};
+use crate::mesh::build::corners_by_vertex;
 
 /// Rounds of relaxation: enough to straighten grid lines across a kink a few quads wide,
 /// few enough not to drift over the surface. The steps down the skew keep finding a little
@@ -65,8 +66,9 @@ fn steepest_descent(p: Vec3, n: Vec3, span: f64, mut energy: impl FnMut(Vec3) ->
 pub struct Surface {
     triangles: Vec<[Vec3; 3]>,
     indices: Vec<[u32; 3]>,
-    /// Triangles `round[start[v]..start[v + 1]]` have vertex `v`.
-    start: Vec<usize>,
+    /// The corners of triangles at vertex `v` are `round[start[v]..start[v + 1]]`
+    /// ([`corners_by_vertex`]).
+    start: Vec<u32>,
     round: Vec<u32>,
     tree: TriangleTree,
 }
@@ -76,19 +78,7 @@ impl Surface {
     pub fn new(positions: &[Vec3], indices: Vec<[u32; 3]>) -> Surface {
         let triangles: Vec<[Vec3; 3]> = indices.iter().map(|t| t.map(|v| positions[v as usize])).collect();
         let tree = TriangleTree::new(triangles.iter().copied());
-        let mut start = vec![0usize; positions.len() + 1];
-        indices.iter().flatten().for_each(|&v| start[v as usize + 1] += 1);
-        for v in 0..positions.len() {
-            start[v + 1] += start[v];
-        }
-        let mut round = vec![0u32; start[positions.len()]];
-        let mut next = start.clone();
-        for (t, corners) in indices.iter().enumerate() {
-            for &v in corners {
-                round[next[v as usize]] = t as u32;
-                next[v as usize] += 1;
-            }
-        }
+        let (start, round) = corners_by_vertex(positions.len(), &indices);
         Surface { triangles, indices, start, round, tree }
     }
 
@@ -96,8 +86,8 @@ impl Surface {
     /// folded quads); `leaf` as [`TriangleTree::closest_from`] takes it.
     fn facing(&self, p: Vec3, leaf: &mut u32) -> Option<Vec3> {
         let hit = self.tree.closest_from(p, leaf)?;
-        let round = |v: u32| &self.round[self.start[v as usize]..self.start[v as usize + 1]];
-        let around = || self.indices[hit.triangle as usize].iter().flat_map(|&v| round(v).iter().copied()).collect();
+        let round = |v: u32| &self.round[self.start[v as usize] as usize..self.start[v as usize + 1] as usize];
+        let around = || self.indices[hit.triangle as usize].iter().flat_map(|&v| round(v).iter().map(|&c| c / 3)).collect();
         Some(pseudo_normal(|t| self.triangles[t as usize], around, p, &hit))
     }
 
