@@ -157,7 +157,7 @@ const suggestApart = await (async () => {
     // The page's worker has the mesh loaded already; here loading it is part of the time.
     const s = new Session(new Uint8Array(bytes), SUGGEST_MESH);
     try {
-      const { layout } = s.chooseCorners(made[kept].layout, made[kept].judged, {});
+      const { layout } = s.finishSuggestion(made[kept]?.layout ?? null, made[kept]?.judged ?? null, {});
       return { suggest_ms: Number((performance.now() - t0).toFixed(1)), workers: 3, layout };
     } finally {
       s.free();

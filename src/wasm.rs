@@ -7,7 +7,7 @@ use crate::clock::now;
 use crate::culprits::Culprits;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh, ReadError};
-use crate::field::{compute_field, pick, with_corners_chosen, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
+use crate::field::{compute_field, pick, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
 use crate::layout::{build_layout_on, curve, parse_layout, place, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, SurfaceLayout};
 use crate::mesh::{repair_mesh, Mesh, RepairOptions};
 use crate::param::chart::ChartKind;
@@ -329,22 +329,31 @@ impl Session {
     }
 
     /// The last step of a suggestion made apart (`suggestLayout` with `tracing` in workers,
-    /// then [`pick_suggestion`]), as `suggestLayout` without `tracing` ends: `text` and
-    /// `judged` are the kept proposal's layout file and judged quads as it answered, `options`
-    /// the same as it got. Returns `{ layout, judged }`: that layout, or a version of it with
-    /// the corners of all faces chosen together where its quads judge no worse. Throws the
-    /// layout's error, or the field's.
-    #[wasm_bindgen(js_name = chooseCorners)]
-    pub fn choose_corners(&mut self, text: &str, judged: JsValue, options: JsValue) -> Result<JsValue, Thrown> {
-        let (opts, _) = layout_options(options, "chooseCorners", &["patches", "featureAngle"])?;
+    /// then [`pick_suggestion`]), as `suggestLayout` without `tracing` ends
+    /// ([`Tracings::conclude`]): `text` and `judged` are the kept proposal's layout file and
+    /// judged quads as it answered, or null where no tracing made one; `options` the same as
+    /// it got. Returns `{ layout, judged }`: that layout, or the Voronoi cells' where it is far
+    /// from the surface and theirs is better, either with the corners of all faces chosen
+    /// together where its quads judge no worse. Throws the layout's error, or the field's, or
+    /// why no layout could be made.
+    #[wasm_bindgen(js_name = finishSuggestion)]
+    pub fn finish_suggestion(&mut self, text: Option<String>, judged: JsValue, options: JsValue) -> Result<JsValue, Thrown> {
+        let (opts, _) = layout_options(options, "finishSuggestion", &["patches", "featureAngle"])?;
         let judged: Option<Judged> = serde_wasm_bindgen::from_value(judged)
-            .map_err(|e| Thrown::new("bad_options", format!("chooseCorners: judged must be {{ hausdorff, score }} or null: {e}")))?;
+            .map_err(|e| Thrown::new("bad_options", format!("finishSuggestion: judged must be {{ hausdorff, score }} or null: {e}")))?;
         let mesh = &self.loaded.mesh;
-        let layout = parse_layout(text)?;
-        let placed = place(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
-        let surface = placed.with_patches(mesh, &layout).map_err(|e| layout_error(e, &layout))?;
-        let tracings = cached(&mut self.tracings, mesh, &opts).map_err(|e| Thrown::new("no_layout_proposed", e.to_string()))?;
-        let kept = with_corners_chosen(mesh, &tracings.field, &placed, Candidate { layout, surface, judged }, &opts);
+        let kept = match text {
+            Some(text) => {
+                let layout = parse_layout(&text)?;
+                let placed = place(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
+                let surface = placed.with_patches(mesh, &layout).map_err(|e| layout_error(e, &layout))?;
+                Ok(Candidate { layout, surface, judged })
+            }
+            None => Err(ProposeError::NoValidLayout("no tracing made a layout".into())),
+        };
+        let failed = |e: ProposeError| Thrown::new("no_layout_proposed", e.to_string());
+        let tracings = cached(&mut self.tracings, mesh, &opts).map_err(failed)?;
+        let kept = tracings.conclude(mesh, kept, &opts).map_err(failed)?;
         #[derive(Serialize)]
         struct Chosen {
             layout: String,

@@ -158,14 +158,14 @@ export class CoreClient {
   }
 
   /**
-   * The kept proposal or a version with its corners chosen together; resolves to
-   * { layout, judged } (protocol.js).
-   * @param {string} text
+   * The last step of proposals made apart (protocol.js FINISH_SUGGESTION); resolves to
+   * { layout, judged }.
+   * @param {string|null} text the kept proposal's layout, null where none was made
    * @param {{hausdorff: number, score: number}|null} judged
    * @param {{patches?: number, featureAngle?: number}} options
    */
-  chooseCorners(text, judged, options) {
-    return this.request(MSG.CHOOSE_CORNERS, { text, judged, options });
+  finishSuggestion(text, judged, options) {
+    return this.request(MSG.FINISH_SUGGESTION, { text, judged, options });
   }
 
   /**

@@ -143,13 +143,14 @@ export const MSG = Object.freeze({
    */
   PICK_SUGGESTION: 'pick-suggestion',
   /**
-   * The last step of proposals made apart: the one PICK_SUGGESTION kept, or a version of it
-   * with the corners of all faces chosen together where its quads judge no worse, as SUGGEST
-   * without `tracing` ends.
-   * args:   { text: string, judged: { hausdorff, score } | null (as SUGGEST answered them),
-   *           options (as SUGGEST got them) }
+   * The last step of proposals made apart, as SUGGEST without `tracing` ends: the one
+   * PICK_SUGGESTION kept, or the Voronoi cells' layout where that one is far from the surface
+   * (or none was made) and the cells' is better; either, or a version of it with the corners of
+   * all faces chosen together where its quads judge no worse.
+   * args:   { text: string | null (none was made), judged: { hausdorff, score } | null (as
+   *           SUGGEST answered them), options (as SUGGEST got them) }
    * result: { layout: string — the layout file (format v1), judged: { hausdorff, score } | null }
-   * On error: the layout's or the field's, in words.
+   * On error: the layout's or the field's, or why no layout could be made, in words.
    */
-  CHOOSE_CORNERS: 'choose-corners',
+  FINISH_SUGGESTION: 'finish-suggestion',
 });

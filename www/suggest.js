@@ -22,7 +22,6 @@
 //   showField(on = true) → Promise<field summary|null>: the field view on or off
 //   field       what the field view shows: { vertices, crosses, singularities: { 3: n, 5: n,
 //               other: n } } or null while it is off
-import { CoreError } from './client.js';
 import { FieldView } from './field-view.js';
 import { parseDoc } from './layout-doc.js';
 
@@ -223,9 +222,11 @@ export class Suggester {
       stopHelpers(token);
     }
     const kept = await this.client.pickSuggestion(made.map((a) => (a.text == null ? null : { judged: a.judged, curves: a.curves })));
-    // None made: the first tracing's reason, as one request gives it.
-    if (kept == null) throw new CoreError(made.find((a) => a.error)?.error ?? 'no layout was made', { kind: 'no_layout_proposed' });
-    const { layout } = await this.client.chooseCorners(made[kept].text, made[kept].judged, options);
+    // None made: one request makes the tracings' proposals again (on the field this worker
+    // keeps) and then the Voronoi cells' layout, and answers with the field, or says why
+    // there is no layout.
+    if (kept == null) return this.client.suggestLayout(options);
+    const { layout } = await this.client.finishSuggestion(made[kept].text, made[kept].judged, options);
     return { ...made[kept], text: layout, seconds: (performance.now() - t0) / 1000, workers };
   }
 

@@ -98,9 +98,9 @@ const handlers = {
   [MSG.PICK_SUGGESTION]({ candidates }) {
     return { result: pickSuggestion(candidates) ?? null };
   },
-  [MSG.CHOOSE_CORNERS]({ text, judged = null, options = {} }) {
+  [MSG.FINISH_SUGGESTION]({ text = null, judged = null, options = {} }) {
     if (!session) throw new Error('load a mesh first');
-    return { result: session.chooseCorners(text, judged, options) };
+    return { result: session.finishSuggestion(text, judged, options) };
   },
 };
 

@@ -100,6 +100,38 @@ pub fn arc_round_handle(mesh: &Mesh, g: &CurveGraph, faces: &Faces, face: u32) -
     Some(from_a)
 }
 
+/// The vertices where face `face` meets itself: round each, its triangles form two fans or
+/// more, parted by curves or other faces' triangles. A slit's vertices are such, and so is a
+/// node the face's boundary passes twice (a disk pinched into a ring: Euler characteristic
+/// 0, yet its boundary is one piece, so neither [`arc_across`] nor [`arc_round_handle`] finds
+/// an arc until these are left out).
+pub fn self_touching(mesh: &Mesh, faces: &Faces, face: u32) -> Vec<u32> {
+    let in_face = |t: u32| t != NONE && faces.of_triangle[t as usize] == face;
+    let mut out = Vec::new();
+    let mut seen = vec![false; mesh.n_vertices()];
+    for t in (0..mesh.n_faces() as u32).filter(|&t| in_face(t)) {
+        for k in 0..3 {
+            let v = mesh.from_vertex(mesh.face_halfedge(t, k));
+            if std::mem::replace(&mut seen[v as usize], true) {
+                continue;
+            }
+            // A fan starts at an edge with the face's triangle on its left and, on its right,
+            // no triangle of the face or one across a curve.
+            let starts = mesh
+                .outgoing(v)
+                .filter(|&h| {
+                    let right = mesh.face(mesh.twin(h));
+                    in_face(mesh.face(h)) && (!in_face(right) || faces.cut_by[mesh.edge(h) as usize] != NONE)
+                })
+                .count();
+            if starts >= 2 {
+                out.push(v);
+            }
+        }
+    }
+    out
+}
+
 /// The root of `x` in the disjoint sets `set`, halving the path there.
 fn find(set: &mut [u32], mut x: u32) -> u32 {
     while set[x as usize] != x {
@@ -200,6 +232,11 @@ mod tests {
         g.add_path(&first, false);
         let fa = analyze(&mesh, &g);
         assert_eq!(fa.slits.len(), 1, "one arc leaves a slit");
+        let mut touching = self_touching(&mesh, &fa, ring);
+        touching.sort_unstable();
+        let mut slit = first.clone();
+        slit.sort_unstable();
+        assert_eq!(touching, slit, "the ring's face meets itself along the slit");
         let second = arc_across(&mesh, &g, &fa, ring, &first).expect("an arc parting the slit");
         g.add_path(&second, false);
         let fa = analyze(&mesh, &g);

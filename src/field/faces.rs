@@ -36,6 +36,20 @@ pub struct Faces {
     pub cut_by: Vec<u32>,
 }
 
+impl Faces {
+    /// Whether removing segment `s` of `graph` merges the two faces beside it into a disk:
+    /// they have no other segment and no node in common but its ends. Two faces that also
+    /// meet along another segment would leave it a slit, and then a ring once the slit goes;
+    /// two that also touch at a node would make a face pinched there.
+    pub fn merges_cleanly(&self, graph: &CurveGraph, s: u32) -> bool {
+        let mut beside = self.faces.iter().filter(|f| f.segments.contains(&s));
+        let (Some(a), Some(b), None) = (beside.next(), beside.next(), beside.next()) else { return false };
+        let p = &graph.segments[s as usize].path;
+        let ends = [p[0], p[p.len() - 1]];
+        a.segments.iter().all(|t| *t == s || !b.segments.contains(t)) && a.nodes.iter().filter(|n| b.nodes.contains(n)).all(|n| ends.contains(n))
+    }
+}
+
 /// Cuts `mesh` along the segments of `graph` and its boundary and measures the pieces.
 pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
     let ne = mesh.n_edges();
@@ -140,4 +154,40 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
     }
     let slits = (0..graph.segments.len() as u32).filter(|&s| slit[s as usize]).collect();
     Faces { faces, of_triangle, slits, cut_by }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::primitives::quad_grid;
+
+    /// A line across a grid parts two faces that meet along it alone: removing it merges them
+    /// into a disk. A square ring inside the grid is two segments (a closed curve gets a node
+    /// halfway), both between the square's face and the face round it: removing either leaves
+    /// the other a slit.
+    #[test]
+    fn only_faces_that_meet_along_one_side_alone_merge_cleanly() {
+        let n = 20;
+        let mesh = quad_grid([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], n);
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        let mut g = CurveGraph::new(&mesh);
+        g.add_path(&(0..=n).map(|i| at(i, 3)).collect::<Vec<_>>(), false);
+        let fa = analyze(&mesh, &g);
+        assert_eq!(fa.faces.len(), 2);
+        let line: Vec<u32> = g.live().collect();
+        assert!(line.iter().all(|&s| fa.merges_cleanly(&g, s)), "{line:?}");
+
+        let mut square: Vec<u32> = (7..13).map(|i| at(i, 7)).collect();
+        square.extend((7..13).map(|j| at(13, j)));
+        square.extend((8..=13).rev().map(|i| at(i, 13)));
+        square.extend((8..=13).rev().map(|j| at(7, j)));
+        square.push(at(7, 7));
+        g.add_path(&square, false);
+        let fa = analyze(&mesh, &g);
+        assert_eq!(fa.faces.len(), 3);
+        let ring: Vec<u32> = g.live().filter(|s| !line.contains(s)).collect();
+        assert_eq!(ring.len(), 2);
+        assert!(ring.iter().all(|&s| !fa.merges_cleanly(&g, s)), "{ring:?}");
+        assert!(line.iter().all(|&s| fa.merges_cleanly(&g, s)), "{line:?}");
+    }
 }

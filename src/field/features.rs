@@ -145,6 +145,13 @@ fn merge_hollow_regions(mesh: &Mesh, sharp: &mut [bool]) {
 }
 
 /// Finds the sharp edges of `mesh` (dihedral angle above `angle_deg`) and their lines.
+impl Features {
+    /// No feature lines at all.
+    pub fn none(mesh: &Mesh) -> Features {
+        Features { sharp: vec![false; mesh.n_edges()], degree: vec![0; mesh.n_vertices()], corners: Vec::new(), lines: Vec::new() }
+    }
+}
+
 pub fn find_features(mesh: &Mesh, angle_deg: f64) -> Features {
     let ne = mesh.n_edges();
     let normals = face_normals(mesh);

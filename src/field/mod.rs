@@ -7,6 +7,7 @@
 //! singularities. [`propose`] builds the layout proposal on it.
 
 pub mod arcs;
+pub mod cells;
 pub mod complex;
 pub mod corners;
 pub mod cross;

@@ -150,10 +150,10 @@ test('proposals made apart and picked are the one suggestion', () => {
     assert.equal(beyond.layout, null);
     assert.equal(beyond.error, null);
     const kept = pickSuggestion(made.map(({ judged, curves }) => ({ judged, curves })));
-    const chosen = s.chooseCorners(made[kept].layout, made[kept].judged, {});
+    const chosen = s.finishSuggestion(made[kept].layout, made[kept].judged, {});
     assert.equal(chosen.layout, whole.layout);
     assert.deepEqual(made[kept].field, whole.field);
-    assert.throws(() => s.chooseCorners(made[kept].layout, { hausdorff: 'far' }, {}), /judged must be/);
+    assert.throws(() => s.finishSuggestion(made[kept].layout, { hausdorff: 'far' }, {}), /judged must be/);
     // The session keeps the tracings of the last feature angle only: another angle is
     // another field, as a fresh session makes it.
     const fresh = new Session(read('mushroom.obj'), 'mushroom.obj');
