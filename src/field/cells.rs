@@ -19,6 +19,8 @@ use std::collections::BinaryHeap;
 
 /// Rounds of seeds added to the cells that are not disks.
 const SPLIT_ROUNDS: usize = 30;
+/// The fewest triangles per cell asked for: six make the fan round one inside vertex.
+const MIN_TRIANGLES: usize = 12;
 
 /// Geodesic Voronoi cells over the triangles (distances between centroids across edges).
 struct Cells {
@@ -172,6 +174,9 @@ fn voronoi(mesh: &Mesh, g: &CurveGraph, count: usize) -> Vec<u32> {
         .map(|t| scale(1.0 / 3.0, add(add(mesh.position(t[0]), mesh.position(t[1])), mesh.position(t[2]))))
         .collect();
     let mut cells = Cells::new(mesh);
+    // A face needs triangles round a vertex inside: more cells than this would only be merged
+    // again (and `--patches` may ask for 100000, each seed a scan of the triangles).
+    let count = count.min(mesh.n_faces() / MIN_TRIANGLES);
     while cells.seeds < count || cells.dist.iter().any(|d| d.is_infinite()) {
         match cells.farthest(|_| true) {
             Some(t) => cells.add_seed(mesh, &centroids, &walls, t),
