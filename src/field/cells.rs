@@ -164,10 +164,10 @@ fn merge_empty(mesh: &Mesh, g: &CurveGraph, walls: &[u32], cell: &mut [u32], n: 
 }
 
 /// The cell of every triangle: `count` seeds by farthest-point sampling (at least one in every
-/// region that the curves of `g` and the components part), then more in every cell that is
-/// not a disk until all are, then the cells without a vertex inside merged away.
-fn voronoi(mesh: &Mesh, g: &CurveGraph, count: usize) -> Vec<u32> {
-    let walls = analyze(mesh, g).cut_by;
+/// region that the curves of `g` and the components part; `walls`: per mesh edge, the curve
+/// along it), then more in every cell that is not a disk until all are, then the cells
+/// without a vertex inside merged away.
+fn voronoi(mesh: &Mesh, g: &CurveGraph, walls: &[u32], count: usize) -> Vec<u32> {
     let centroids: Vec<Vec3> = mesh
         .triangles()
         .iter()
@@ -179,7 +179,7 @@ fn voronoi(mesh: &Mesh, g: &CurveGraph, count: usize) -> Vec<u32> {
     let count = count.min(mesh.n_faces() / MIN_TRIANGLES);
     while cells.seeds < count || cells.dist.iter().any(|d| d.is_infinite()) {
         match cells.farthest(|_| true) {
-            Some(t) => cells.add_seed(mesh, &centroids, &walls, t),
+            Some(t) => cells.add_seed(mesh, &centroids, walls, t),
             None => break,
         }
     }
@@ -190,11 +190,11 @@ fn voronoi(mesh: &Mesh, g: &CurveGraph, count: usize) -> Vec<u32> {
         }
         let seeds: Vec<u32> = split.iter().filter_map(|&c| cells.farthest(|t| cells.cell[t as usize] == c)).collect();
         for t in seeds {
-            cells.add_seed(mesh, &centroids, &walls, t);
+            cells.add_seed(mesh, &centroids, walls, t);
         }
     }
     let n = cells.seeds;
-    merge_empty(mesh, g, &walls, &mut cells.cell, n);
+    merge_empty(mesh, g, walls, &mut cells.cell, n);
     cells.cell
 }
 
@@ -202,8 +202,8 @@ fn voronoi(mesh: &Mesh, g: &CurveGraph, count: usize) -> Vec<u32> {
 /// one of the faces `g`'s curves make, as paths of mesh vertices cut at every vertex where
 /// three cells meet or that `g` already holds.
 pub fn add_cell_borders(mesh: &Mesh, g: &mut CurveGraph, count: usize) {
-    let cell = voronoi(mesh, g, count);
     let walls = analyze(mesh, g).cut_by;
+    let cell = voronoi(mesh, g, &walls, count);
     let border = |h: u32| walls[mesh.edge(h) as usize] == NONE && cells_beside(mesh, &cell, h).count() == 2;
     let degree: Vec<usize> = (0..mesh.n_vertices() as u32).map(|v| mesh.outgoing(v).filter(|&h| border(h)).count()).collect();
     let stop = |v: u32| degree[v as usize] != 2 || g.taken(v);
