@@ -135,6 +135,17 @@ const PATCHES_SLACK: f64 = 1.25;
 const FEWER_PATCHES_TRIES: usize = 4;
 /// Doublings of [`CANCEL_DISTANCE`] tried when the layout from the singularities fails.
 const CANCEL_RETRIES: u32 = 1;
+/// Traces along iso-lines that end on a curve within this fraction of the diagonal of where
+/// one ended on it from the other side end there too ([`Motorcycles::snapping`]): two
+/// iso-lines that meet a curve so close together stand for one grid line, and apart they
+/// leave a piece of the curve that must take a segment however short it is. Over 26 meshes at
+/// 4000 quads, geometric-mean Hausdorff distance 2.03 → 1.86 % of the diagonal, mean angle
+/// deviation 11.20 → 11.11°, irregular vertices 2095 → 2179 (CGAL's knot1 0.65 → 0.29 % with
+/// none, handle 5.7 → 2.4 %, lion-head 1.5 → 3.7 %); the shared meshes keep their layouts.
+/// Snapping the field's own streamlines too (at 0.03 or 0.015) changed those: bunny_28k's
+/// Hausdorff distance 1.27 → 0.85 %, but its irregular vertices 74 → 82 and elephant_44k's
+/// 146 → 177, and on the 26 meshes the mean angle deviation rose.
+const SNAP: f64 = 0.03;
 /// Traces longer than this many diagonals stop (and are dropped as dangling).
 const MAX_TRACE_LENGTH: f64 = 3.0;
 /// A boundary vertex whose interior angle differs from π by more than this is a corner.
@@ -754,7 +765,9 @@ type Launch = (u32, Vec3, bool);
 /// continues a feature line is kept and tagged like the line (a crease that fades out goes on
 /// as an edge loop), so no repair leaves the line dangling for the pruning to take away.
 fn grow(mesh: &Mesh, field: &CrossField, g: &mut CurveGraph, diag: f64, launches: &[Launch]) {
-    let mut moto = Motorcycles::new(mesh, field, owners(mesh, g), MAX_TRACE_LENGTH * diag);
+    // Iso-lines only: see SNAP.
+    let snap = if field.iso.arms.is_empty() { 0.0 } else { SNAP * diag };
+    let mut moto = Motorcycles::new(mesh, field, owners(mesh, g), MAX_TRACE_LENGTH * diag).snapping(snap);
     for &(v, heading, _) in launches {
         moto.launch(v, heading);
     }

@@ -20,7 +20,7 @@ use super::CrossField;
 use crate::geom::{cross, dot, norm, scale, sub, unit, Vec3};
 use crate::mesh::{Mesh, NONE};
 use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashMap};
 
 /// Taken by a node, a feature line or the boundary rather than by a trace.
 pub const BLOCKED: u32 = u32::MAX - 1;
@@ -59,7 +59,17 @@ pub struct Motorcycles<'a> {
     pub traces: Vec<Trace>,
     pending: Vec<Walker>,
     max_length: f64,
+    /// Per vertex where curves end, their headings there ([`Motorcycles::end_at_crossing`]).
+    arrivals: HashMap<u32, Vec<Vec3>>,
+    /// How far along a curve a trace's end moves to meet one from the other side; 0: never.
+    snap: f64,
 }
+
+/// A trace snaps at most this share of its length ([`Motorcycles::end_at_crossing`]).
+const SNAP_SHARE: f64 = 0.25;
+/// Headings at least this opposite (the cosine of the angle between them below its negative)
+/// come from either side of the curve they end on.
+const OPPOSITE: f64 = 0.5;
 
 #[derive(Debug, Clone)]
 struct Walker {
@@ -101,7 +111,13 @@ impl Ord for Next {
 impl<'a> Motorcycles<'a> {
     /// An empty graph; `owner` says which vertices are taken before any trace runs.
     pub fn new(mesh: &'a Mesh, field: &'a CrossField, owner: Vec<u32>, max_length: f64) -> Motorcycles<'a> {
-        Motorcycles { mesh, field, owner, traces: Vec::new(), pending: Vec::new(), max_length }
+        Motorcycles { mesh, field, owner, traces: Vec::new(), pending: Vec::new(), max_length, arrivals: HashMap::new(), snap: 0.0 }
+    }
+
+    /// The graph with traces that end within `snap` (along the curve they end on) of one that
+    /// ended there from the other side moved to end where it did ([`Self::end_at_crossing`]).
+    pub fn snapping(self, snap: f64) -> Motorcycles<'a> {
+        Motorcycles { snap, ..self }
     }
 
     /// Queues a trace leaving `start` along `heading` (a tangent direction at `start`); a
@@ -146,6 +162,7 @@ impl<'a> Motorcycles<'a> {
                 path.push(next);
                 if self.owner[next as usize] != NONE {
                     self.traces[t].end = TraceEnd::Hit;
+                    self.end_at_crossing(t, w.heading, w.length);
                     continue;
                 }
                 // Next to another curve: end on it rather than run beside it one edge away,
@@ -164,6 +181,7 @@ impl<'a> Motorcycles<'a> {
                         self.owner[next as usize] = w.trace;
                         self.traces[t].path.push(x);
                         self.traces[t].end = TraceEnd::Hit;
+                        self.end_at_crossing(t, w.heading, w.length);
                         continue;
                     }
                 }
@@ -175,6 +193,118 @@ impl<'a> Motorcycles<'a> {
             heap.push(Next(w.length, k));
             walkers[k] = w;
         }
+    }
+
+    /// Trace `t` has just ended on a taken vertex, heading `heading`, `length` long. Where
+    /// another trace ended on the same curve within the snap (and [`SNAP_SHARE`] of `length`:
+    /// a short trace in a thin part bends less) of it from the other side, `t`'s last
+    /// stretch is rerouted to end there too: the two meet the curve in one crossing, not in
+    /// two T-junctions with a short piece of the curve between them, which must take a segment
+    /// of its own however short it is (more quads than asked, squeezed ones) and kinks the
+    /// grid line the two traces would make together.
+    fn end_at_crossing(&mut self, t: usize, heading: Vec3, length: f64) {
+        let path = &self.traces[t].path;
+        let mut end = path[path.len() - 1];
+        let reach = self.snap.min(SNAP_SHARE * length);
+        if reach > 0.0 && path.len() > SNAP_AFTER + 1 {
+            if let Some(j) = self.crossing_near(end, heading, reach) {
+                if self.reroute(t, end, j, heading, reach) {
+                    end = j;
+                }
+            }
+        }
+        self.arrivals.entry(end).or_default().push(heading);
+    }
+
+    /// The nearest vertex within `reach` of `x` along the curve it lies on (the
+    /// vertices of its owner) where a curve ended heading against `heading` and none with it
+    /// (that would be a crossing already).
+    fn crossing_near(&self, x: u32, heading: Vec3, reach: f64) -> Option<u32> {
+        let curve = self.owner[x as usize];
+        let p = self.mesh.position(x);
+        let within = |v: u32| norm(sub(self.mesh.position(v), p)) <= reach;
+        let mut seen = vec![x];
+        let mut queue = std::collections::VecDeque::from([x]);
+        let mut best: Option<(f64, u32)> = None;
+        while let Some(v) = queue.pop_front() {
+            if let Some(at) = self.arrivals.get(&v) {
+                let d = norm(sub(self.mesh.position(v), p));
+                let against = at.iter().any(|&a| dot(a, heading) < -OPPOSITE);
+                let along = at.iter().any(|&a| dot(a, heading) > OPPOSITE);
+                if v != x && against && !along && best.is_none_or(|b| d < b.0) {
+                    best = Some((d, v));
+                }
+            }
+            for u in self.mesh.neighbors(v) {
+                if self.owner[u as usize] == curve && !seen.contains(&u) && within(u) {
+                    seen.push(u);
+                    queue.push_back(u);
+                }
+            }
+        }
+        best.map(|b| b.1)
+    }
+
+    /// Trace `t`, which ended on `x` heading `heading`, ends on `j` (within `reach` of `x`)
+    /// instead: its path from where it was twice `reach` from `x` is replaced by the shortest
+    /// path of free vertices that reaches `j` from the side `heading` comes from, so the bend
+    /// spreads over that stretch; `false` (nothing changed) where there is none.
+    fn reroute(&mut self, t: usize, x: u32, j: u32, heading: Vec3, reach: f64) -> bool {
+        let mesh = self.mesh;
+        let p = mesh.position(x);
+        let path = &self.traces[t].path;
+        // The last vertex at least twice the reach from x, past the first few steps.
+        let from = (SNAP_AFTER..path.len() - 1).rev().find(|&k| norm(sub(mesh.position(path[k]), p)) >= 2.0 * reach).unwrap_or(SNAP_AFTER);
+        let start = path[from];
+        let dropped: Vec<u32> = path[from + 1..path.len() - 1].to_vec();
+        for &v in &dropped {
+            self.owner[v as usize] = NONE;
+        }
+        // The shortest path over free vertices near x.
+        let around = 3.0 * reach;
+        let mut dist: HashMap<u32, (f64, u32)> = HashMap::from([(start, (0.0, NONE))]);
+        let mut heap = BinaryHeap::from([Next(0.0, start as usize)]);
+        let mut last = None;
+        while let Some(Next(d, v)) = heap.pop() {
+            let v = v as u32;
+            if dist.get(&v).is_some_and(|e| d > e.0) {
+                continue;
+            }
+            if mesh.neighbors(v).any(|u| u == j) && dot(sub(mesh.position(j), mesh.position(v)), heading) > 0.0 {
+                last = Some(v);
+                break;
+            }
+            for u in mesh.neighbors(v) {
+                if self.owner[u as usize] != NONE || norm(sub(mesh.position(u), p)) > around {
+                    continue;
+                }
+                let du = d + norm(sub(mesh.position(u), mesh.position(v)));
+                if dist.get(&u).is_none_or(|e| du < e.0) {
+                    dist.insert(u, (du, v));
+                    heap.push(Next(du, u as usize));
+                }
+            }
+        }
+        let Some(mut v) = last else {
+            for &v in &dropped {
+                self.owner[v as usize] = t as u32;
+            }
+            return false;
+        };
+        let mut route = Vec::new();
+        while v != start {
+            route.push(v);
+            v = dist[&v].1;
+        }
+        route.reverse();
+        let path = &mut self.traces[t].path;
+        path.truncate(from + 1);
+        for &v in &route {
+            self.owner[v as usize] = t as u32;
+        }
+        path.extend(route);
+        path.push(j);
+        true
     }
 
     /// The field's direction in triangle `f` at `point`, nearest `heading`: each corner's arm
@@ -286,5 +416,46 @@ impl<'a> Motorcycles<'a> {
             return Some((Walker { face: f, entry: h, steps: usize::MAX, ..walker }, Some(nearer)));
         }
         Some((walker, Some(nearer)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::compute_field;
+    use crate::mesh::primitives::quad_grid;
+
+    /// Two traces up and down (or both up) a 20 × 20 grid of the unit square toward a curve
+    /// across its middle row, two columns apart, grown with `snap`; their ends.
+    fn ends(second_from_above: bool, snap: f64) -> [u32; 2] {
+        let n = 20;
+        let mesh = quad_grid([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], n);
+        let field = compute_field(&mesh, 35.0).unwrap();
+        let id = |i: u32, j: u32| j * (n + 1) + i;
+        let mut owner = vec![NONE; mesh.n_vertices()];
+        for i in 0..=n {
+            owner[id(i, 10) as usize] = BLOCKED;
+        }
+        let mut moto = Motorcycles::new(&mesh, &field, owner, 3.0).snapping(snap);
+        moto.launch(id(5, 1), [0.0, 1.0, 0.0]);
+        if second_from_above {
+            moto.launch(id(7, 19), [0.0, -1.0, 0.0]);
+        } else {
+            moto.launch(id(7, 1), [0.0, 1.0, 0.0]);
+        }
+        moto.run();
+        assert!(moto.traces.iter().all(|t| t.end == TraceEnd::Hit));
+        [0, 1].map(|k| *moto.traces[k].path.last().unwrap())
+    }
+
+    #[test]
+    fn traces_meeting_a_curve_from_either_side_close_together_cross_it_at_one_vertex() {
+        let id = |i: u32| 10 * 21 + i;
+        let [a, b] = ends(true, 0.12);
+        assert_eq!(a, b);
+        assert!([id(5), id(7)].contains(&a), "{a}");
+        // Not without the snap, nor from the same side (the strip between them is a face).
+        assert_eq!(ends(true, 0.0), [id(5), id(7)]);
+        assert_eq!(ends(false, 0.12), [id(5), id(7)]);
     }
 }
