@@ -206,7 +206,8 @@ impl<'a> Motorcycles<'a> {
         let path = &self.traces[t].path;
         let mut end = path[path.len() - 1];
         let reach = self.snap.min(SNAP_SHARE * length);
-        if reach > 0.0 && path.len() > SNAP_AFTER + 1 {
+        // Not on itself: the stretch rerouted could hold the vertex it would end on.
+        if reach > 0.0 && path.len() > SNAP_AFTER + 1 && self.owner[end as usize] != t as u32 {
             if let Some(j) = self.crossing_near(end, heading, reach) {
                 if self.reroute(t, end, j, heading, reach) {
                     end = j;
