@@ -20,7 +20,7 @@ use super::CrossField;
 use crate::geom::{cross, dot, norm, scale, sub, unit, Vec3};
 use crate::mesh::{Mesh, NONE};
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::{BinaryHeap, HashMap, VecDeque};
 
 /// Taken by a node, a feature line or the boundary rather than by a trace.
 pub const BLOCKED: u32 = u32::MAX - 1;
@@ -59,7 +59,8 @@ pub struct Motorcycles<'a> {
     pub traces: Vec<Trace>,
     pending: Vec<Walker>,
     max_length: f64,
-    /// Per vertex where curves end, their headings there ([`Motorcycles::end_at_crossing`]).
+    /// Per vertex where traces end, their headings there ([`Motorcycles::end_at_crossing`];
+    /// kept only when snapping).
     arrivals: HashMap<u32, Vec<Vec3>>,
     /// How far along a curve a trace's end moves to meet one from the other side; 0: never.
     snap: f64,
@@ -203,6 +204,10 @@ impl<'a> Motorcycles<'a> {
     /// of its own however short it is (more quads than asked, squeezed ones) and kinks the
     /// grid line the two traces would make together.
     fn end_at_crossing(&mut self, t: usize, heading: Vec3, length: f64) {
+        // Without a snap no trace looks for the others' ends.
+        if self.snap <= 0.0 {
+            return;
+        }
         let path = &self.traces[t].path;
         let mut end = path[path.len() - 1];
         let reach = self.snap.min(SNAP_SHARE * length);
@@ -225,7 +230,7 @@ impl<'a> Motorcycles<'a> {
         let p = self.mesh.position(x);
         let within = |v: u32| norm(sub(self.mesh.position(v), p)) <= reach;
         let mut seen = vec![x];
-        let mut queue = std::collections::VecDeque::from([x]);
+        let mut queue = VecDeque::from([x]);
         let mut best: Option<(f64, u32)> = None;
         while let Some(v) = queue.pop_front() {
             if let Some(at) = self.arrivals.get(&v) {
