@@ -45,6 +45,9 @@ const HAUSDORFF_SLACK: f64 = 2.0;
 /// by more.
 const RELAX_ROUNDS: usize = 3;
 
+/// Global steps toward rectangles of the quads judged ([`crate::quad::rectify`]): none.
+const RECTIFY_STEPS: usize = 0;
+
 /// The quads of `layout` at `edge_length`, measured; `None` where the remesh fails (as
 /// `remesh` would refuse it).
 pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Judged> {
@@ -54,7 +57,7 @@ pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Ju
         param.step().ok()?;
     }
     param.finish().ok()?;
-    let quad_options = QuadOptions { relax_rounds: RELAX_ROUNDS, ..QuadOptions::with_edge_length(edge_length) };
+    let quad_options = QuadOptions { relax_rounds: RELAX_ROUNDS, rectify_steps: RECTIFY_STEPS, ..QuadOptions::with_edge_length(edge_length) };
     let (quads, _) = extract(layout, &param, &quad_options).ok()?;
     check_reads_back(&quads).ok()?;
     let q = measure(mesh, &quads);

@@ -8,6 +8,7 @@ pub mod counts;
 pub mod density;
 pub mod doublets;
 pub mod locate;
+pub mod rectify;
 pub mod relax;
 
 use crate::culprits::Culprits;
@@ -47,8 +48,12 @@ pub struct QuadOptions {
     /// edge_length² quads ([`density`]). Default (via [`QuadOptions::for_mesh`]): 1/40 of the
     /// bounding-box diagonal.
     pub edge_length: f64,
-    /// Rounds of relaxation on the surface ([`relax`]). Default: [`relax::ROUNDS`].
+    /// Rounds of relaxation on the surface ([`relax`]), one vertex at a time. Default:
+    /// [`relax::ROUNDS`].
     pub relax_rounds: usize,
+    /// Global steps toward rectangles before those rounds ([`rectify`]). Default:
+    /// [`relax::STEPS`].
+    pub rectify_steps: usize,
 }
 
 impl QuadOptions {
@@ -57,7 +62,7 @@ impl QuadOptions {
         QuadOptions::with_edge_length(default_edge_length(mesh))
     }
     pub fn with_edge_length(edge_length: f64) -> QuadOptions {
-        QuadOptions { edge_length, relax_rounds: relax::ROUNDS }
+        QuadOptions { edge_length, relax_rounds: relax::ROUNDS, rectify_steps: relax::STEPS }
     }
 }
 
@@ -559,7 +564,7 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     doublets::remove_marked(&mut pinned, &dropped);
     doublets::remove_marked(&mut squared, &dropped);
     let surface = relax::Surface::new(&cut.positions, cut.triangles.clone());
-    let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared, options.relax_rounds);
+    let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared, options.rectify_steps, options.relax_rounds);
     Ok((mesh, Extraction { counts, desired, outside_points: map.outside, relaxed_vertices }))
 }
 

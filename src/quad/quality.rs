@@ -304,7 +304,7 @@ pub(super) fn quad_normal(q: &[Vec3; 4]) -> Vec3 {
 /// Verdict's quad scaled Jacobian: the minimum over corners of `(e1 × e2) · n / (|e1| |e2|)`
 /// with `n` the unit [`quad_normal`]. 0 for a quad with a zero-length edge or a zero normal
 /// (Verdict also returns 0 for zero-length edges).
-fn scaled_jacobian(q: &[Vec3; 4]) -> f64 {
+pub(super) fn scaled_jacobian(q: &[Vec3; 4]) -> f64 {
     let n = quad_normal(q);
     let n_len = norm(n);
     // Zero for a degenerate quad, infinite when huge coordinates overflow.
