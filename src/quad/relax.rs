@@ -629,6 +629,39 @@ mod tests {
         assert!((z - 2.0).abs() < 0.1, "the vertex pushed to z = 2.3 is at z = {z}");
     }
 
+    /// Two flat sides at right angles, z = 0 for x < 0 and x = 0 for z > 0, joined by a
+    /// fillet of radius `r` (16 triangles across, 8° apart: no sharp edge), from y = −2 to 2.
+    fn filleted_corner(r: f64) -> Surface {
+        let arc = (0..=16).map(|k| {
+            let t = std::f64::consts::FRAC_PI_2 * k as f64 / 16.0;
+            [-r + r * t.sin(), r - r * t.cos()]
+        });
+        let profile: Vec<[f64; 2]> = [[-3.0, 0.0]].into_iter().chain(arc).chain([[0.0, 3.0]]).collect();
+        let positions: Vec<Vec3> = [-2.0, 2.0].iter().flat_map(|&y| profile.iter().map(move |&[x, z]| [x, y, z])).collect();
+        let m = profile.len() as u32;
+        let triangles = (0..m - 1).flat_map(|i| [[i, i + 1, m + i + 1], [i, m + i + 1, m + i]]).collect();
+        Surface::new(&positions, triangles)
+    }
+
+    /// A vertex on the fillet whose quads would be squarer with it on the bottom side (where
+    /// the rows beside it have theirs) stays on the fillet: there its quads would cut the
+    /// fillet off. Only the quads bend there, and no sharp edge holds it.
+    #[test]
+    fn a_vertex_on_a_fillet_is_not_moved_off_it() {
+        let r = 0.3;
+        let on_fillet = [-r + r * 0.5f64.sqrt(), r - r * 0.5f64.sqrt()];
+        let row = |y: f64, middle: [f64; 2]| [[-2.0, 0.0], [-1.0, 0.0], middle, [0.0, 0.5], [0.0, 1.0]].map(|[x, z]| [x, y, z]);
+        let positions: Vec<Vec3> = [row(-1.0, [-0.5, 0.0]), row(0.0, on_fillet), row(1.0, [-0.5, 0.0])].concat();
+        let id = |i: usize, j: usize| (j * 5 + i) as u32;
+        let quads = (0..2).flat_map(|j| (0..4).map(move |i| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])).collect();
+        let v = id(2, 1) as usize;
+        let pinned: Vec<bool> = (0..positions.len()).map(|w| w != v).collect();
+        let mut m = QuadMesh { positions, quads, vertex_node: vec![NONE; 15] };
+        relax(&mut m, &filleted_corner(r), &pinned, &[true; 15], STEPS, ROUNDS);
+        let [x, _, z] = m.positions[v];
+        assert!(x > -r && z > 0.02 * r, "moved off the fillet to {:?}", m.positions[v]);
+    }
+
     #[test]
     fn a_regular_grid_stays_as_it_is() {
         let (mut m, pinned) = grid(6, |_, _| [0.0; 2]);
