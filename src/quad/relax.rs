@@ -1,4 +1,6 @@
-//! Relaxation of an extracted quad mesh on the surface: each free vertex moves toward the
+//! Relaxation of an extracted quad mesh on the surface. First a few global steps move all
+//! free vertices at once toward where every quad is a rectangle ([`super::rectify`]), which
+//! undoes a shear as wide as a chart; then, a few rounds, each free vertex moves toward the
 //! mean of its edge neighbours, toward where its quads would be parallelograms, or down the
 //! slope of its quads' skew ([`steepest_descent`]), within the surface's tangent plane, and is
 //! put back on the surface at the nearest point, a few rounds. Of the moves tried, the one
@@ -280,8 +282,8 @@ fn rectify_steps(
     let n = quads.positions.len();
     // The corners of quads folded or not convex stay for the rounds, which judge each move
     // by the folds it leaves: the rectangles' pull knows nothing of folds, and moved them
-    // where fewer came undone (on CGAL's cow, dino, femur and others the folded quads went
-    // from 34 to 44).
+    // where fewer came undone (over 26 meshes' automatic layouts at --quads 4000 the folded
+    // quads went from 81 to 88 with those corners in the steps, 83 without).
     let unsound = |v: usize| incident[v].iter().any(|&q| before[q as usize].flipped || !before[q as usize].convex);
     let free: Vec<bool> = (0..n).map(|v| !pinned[v] && squared[v] && !neighbours[v].is_empty() && !unsound(v)).collect();
     let Ok(mut rectify) = Rectify::new(&quads.quads, &free, normals) else { return };
