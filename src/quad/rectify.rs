@@ -25,7 +25,7 @@ const STAY: f64 = 0.05;
 /// How far each fitted rectangle is drawn toward a square: its aspect ratio (long side over
 /// short) to the power 1 − this, its area kept. Rectangles of free sides square the corners
 /// most (over the seven shared meshes' automatic layouts at --quads 4000, a mean angle
-/// deviation lower by 0.1–1.5° than with 0.25), but they let strips of quads grow thinner:
+/// deviation lower by 0.1–1.6° than with 0.25), but they let strips of quads grow thinner:
 /// fandisk's mean aspect ratio rose from 2.07 to 2.84, where with 0.25 it went to 2.28 and on
 /// bunny_28k, nefertiti and elephant it fell (2.04 → 1.76, 1.61 → 1.49, 3.16 → 3.04); with
 /// 0.5 the angles gained about half as much again as the aspects did.
