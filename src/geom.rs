@@ -46,6 +46,15 @@ pub fn unit(a: Vec3) -> Vec3 {
     }
 }
 
+/// Two orthogonal unit directions spanning the plane normal to the unit vector `n`, the
+/// second `n × first`; the first is the coordinate axis x (or y, where `n` is nearly along
+/// x) made normal to `n`.
+pub fn tangent_basis(n: Vec3) -> [Vec3; 2] {
+    let a = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
+    let t1 = unit(sub(a, scale(dot(a, n), n)));
+    [t1, cross(n, t1)]
+}
+
 /// The angle between `u` and `w`, in [0, π]. `atan2` stays accurate near 0 and π, unlike
 /// `acos`.
 pub fn angle(u: Vec3, w: Vec3) -> f64 {

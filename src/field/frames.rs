@@ -7,7 +7,7 @@
 //! angle `α` in the frame of `i` becomes `α + ρ_ij` in the frame of `j`, with `ρ_ij` the angle
 //! of the edge seen from `j` minus its angle seen from `i`.
 
-use crate::geom::{add, cross, dot, scale, sub, unit, Vec3};
+use crate::geom::{add, cross, dot, scale, sub, tangent_basis, unit, Vec3};
 use crate::mesh::geometry::{corner_angles, face_normals};
 use crate::mesh::{Mesh, NONE};
 use std::f64::consts::PI;
@@ -60,8 +60,7 @@ impl Frames {
             let mut a = if h == NONE { [0.0; 3] } else { unit(tangential(sub(mesh.position(mesh.to_vertex(h)), mesh.position(v as u32)), n)) };
             if a == [0.0; 3] {
                 // Any direction not along n.
-                let k = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
-                a = unit(tangential(k, n));
+                a = tangent_basis(n)[0];
             }
             e1[v] = a;
             e2[v] = cross(n, a);

@@ -301,6 +301,11 @@ pub(super) fn quad_normal(q: &[Vec3; 4]) -> Vec3 {
     cross(sub(q[2], q[0]), sub(q[3], q[1]))
 }
 
+/// The mean of the quad's corners.
+pub(super) fn quad_centre(q: &[Vec3; 4]) -> Vec3 {
+    scale(0.25, q.iter().fold([0.0; 3], |s, &x| add(s, x)))
+}
+
 /// Verdict's quad scaled Jacobian: the minimum over corners of `(e1 × e2) · n / (|e1| |e2|)`
 /// with `n` the unit [`quad_normal`]. 0 for a quad with a zero-length edge or a zero normal
 /// (Verdict also returns 0 for zero-length edges).

@@ -13,7 +13,8 @@
 //! layout at --quads 4000, 300 rounds of [`super::relax`] alone still left a mean angle
 //! deviation of 5.1°; 30 of these steps before 30 rounds leave 4.3°.
 
-use crate::geom::{add, cross, dot, norm, scale, sub, unit, Vec3};
+use super::quality::quad_centre;
+use crate::geom::{add, cross, dot, norm, scale, sub, tangent_basis, unit, Vec3};
 use crate::mesh::NONE;
 use crate::solve::{SolveError, SpdSolver};
 
@@ -45,13 +46,6 @@ pub struct Rectify {
     solver: SpdSolver,
 }
 
-/// Two unit directions spanning the plane normal to `n`.
-fn tangents(n: Vec3) -> [Vec3; 2] {
-    let a = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
-    let t1 = unit(sub(a, scale(dot(a, n), n)));
-    [t1, cross(n, t1)]
-}
-
 impl Rectify {
     /// The steps for `quads`, moving the vertices that are `free` in the planes normal to
     /// `normals` (unit surface normals at the vertices).
@@ -69,7 +63,7 @@ impl Rectify {
             *slot = unknowns;
             unknowns += 1;
         }
-        let frames: Vec<[Vec3; 2]> = normals.iter().zip(&index).map(|(&n, &k)| if k == NONE { [[0.0; 3]; 2] } else { tangents(n) }).collect();
+        let frames: Vec<[Vec3; 2]> = normals.iter().zip(&index).map(|(&n, &k)| if k == NONE { [[0.0; 3]; 2] } else { tangent_basis(n) }).collect();
         let (mut pattern, mut values) = (Vec::new(), Vec::new());
         for q in quads {
             for (a, b) in (0..4).flat_map(|a| (0..4).map(move |b| (a, b))) {
@@ -106,7 +100,7 @@ impl Rectify {
         let mut rhs = vec![0.0; 2 * self.unknowns];
         for q in &self.quads {
             let p = q.map(|v| positions[v as usize]);
-            let centre = scale(0.25, p.iter().fold([0.0; 3], |s, &x| add(s, x)));
+            let centre = quad_centre(&p);
             let target = rectangle(&p, centre, q.map(|v| normals[v as usize]));
             for k in 0..4 {
                 let (v, i) = (q[k] as usize, self.index[q[k] as usize]);

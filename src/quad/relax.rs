@@ -27,9 +27,9 @@
 
 use super::closest::{closest_point_on_triangle, TriangleTree};
 use super::rectify::Rectify;
-use super::quality::{corner_angle_deviations, pseudo_normal, quad_normal, scaled_jacobian};
+use super::quality::{corner_angle_deviations, pseudo_normal, quad_centre, quad_normal, scaled_jacobian};
 use super::QuadMesh;
-use crate::geom::{add, cross, dot, norm, scale, sub, unit, Vec3};
+use crate::geom::{add, cross, dot, norm, scale, sub, tangent_basis, unit, Vec3};
 use crate::mesh::build::corners_by_vertex;
 
 /// Rounds of relaxation: enough to straighten grid lines across a kink a few quads wide,
@@ -63,9 +63,7 @@ const SLOPE_SPAN: f64 = 1e-3;
 /// The unit direction in the tangent plane at `p` (normal `n`) in which `energy` falls
 /// fastest, from central differences `span` either side; `None` where it is flat.
 fn steepest_descent(p: Vec3, n: Vec3, span: f64, mut energy: impl FnMut(Vec3) -> f64) -> Option<Vec3> {
-    let a = if n[0].abs() < 0.9 { [1.0, 0.0, 0.0] } else { [0.0, 1.0, 0.0] };
-    let t1 = unit(sub(a, scale(dot(a, n), n)));
-    let t2 = cross(n, t1);
+    let [t1, t2] = tangent_basis(n);
     let mut slope = |t: Vec3| (energy(add(p, scale(span, t))) - energy(sub(p, scale(span, t)))) / (2.0 * span);
     let (g1, g2) = (slope(t1), slope(t2));
     let g = g1.hypot(g2);
@@ -147,7 +145,7 @@ fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mu
         let (a, b, d) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
         dot(cross(sub(d, b), sub(a, b)), normals[q[k] as usize]) > 0.0
     });
-    let centre = scale(0.25, c.iter().fold([0.0; 3], |s, &x| add(s, x)));
+    let centre = quad_centre(&c);
     let normal = surface.facing(centre, leaf).unwrap_or([0.0; 3]);
     let flipped = dot(quad_normal(&c), normal) <= 0.0;
     QuadState { convex, flipped }
@@ -258,6 +256,15 @@ fn covers(positions: &[Vec3], anchor: &[Vec3], quads: &[[u32; 4]], around: &[u32
 /// straight (on nefertiti, a corner of 179.8°).
 const FLAT: f64 = 0.1;
 
+/// Queues the quads `around` a vertex that moved to be checked, each once.
+fn recheck(around: &[u32], queued: &mut [bool], pending: &mut Vec<u32>) {
+    for &i in around {
+        if !std::mem::replace(&mut queued[i as usize], true) {
+            pending.push(i);
+        }
+    }
+}
+
 /// `steps` global steps of the free vertices toward rectangles ([`Rectify`]), each vertex put
 /// back on the surface; a quad that would fold, turn a corner inside out or stray from the
 /// surface beyond its `reach` takes back the moves of its corners, until none does.
@@ -298,11 +305,7 @@ fn rectify_steps(
             if let Some((q, nq)) = surface.project(goal[v], &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, goal[v])) <= step) {
                 quads.positions[v] = q;
                 normals[v] = nq;
-                for &i in &incident[v] {
-                    if !std::mem::replace(&mut queued[i as usize], true) {
-                        pending.push(i);
-                    }
-                }
+                recheck(&incident[v], &mut queued, &mut pending);
             }
         }
         for v in 0..n {
@@ -326,11 +329,7 @@ fn rectify_steps(
                 if quads.positions[v] != old[v] {
                     quads.positions[v] = old[v];
                     normals[v] = old_normals[v];
-                    for &j in &incident[v] {
-                        if !std::mem::replace(&mut queued[j as usize], true) {
-                            pending.push(j);
-                        }
-                    }
+                    recheck(&incident[v], &mut queued, &mut pending);
                 }
             }
         }
