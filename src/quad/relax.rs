@@ -162,7 +162,19 @@ fn probes(p: &[Vec3], q: [u32; 4]) -> [Vec3; 5] {
 /// The sum over the corners of quad `q` of |corner angle − 90°| to the power `power`, in
 /// degrees.
 fn skew(p: &[Vec3], q: [u32; 4], power: f64) -> f64 {
-    corner_angle_deviations(&q.map(|v| p[v as usize])).iter().map(|d| d.powf(power)).sum()
+    corner_angle_deviations(&q.map(|v| p[v as usize])).iter().map(|&d| to_power(d, power)).sum()
+}
+
+/// `d` (not negative) to the power `power`: the squares and the 1.5th powers that [`skew`]
+/// takes by a product and a square root, which `powf` took a sixteenth of a remesh's time for.
+fn to_power(d: f64, power: f64) -> f64 {
+    if power == 2.0 {
+        d * d
+    } else if power == 1.5 {
+        d * d.sqrt()
+    } else {
+        d.powf(power)
+    }
 }
 
 /// The powers of the corners' deviations that [`skew`] sums: squares in the first
@@ -541,6 +553,17 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
 mod tests {
     use super::*;
     use crate::mesh::NONE;
+
+    /// The powers taken without `powf` are the powers.
+    #[test]
+    fn to_power_is_the_power() {
+        for d in [0.0, 0.3, 1.0, 7.5, 89.9] {
+            for power in [2.0, 1.5, 1.3] {
+                let (got, want) = (to_power(d, power), f64::powf(d, power));
+                assert!((got - want).abs() <= 1e-12 * want.max(1.0), "{d}^{power}: {got} vs {want}");
+            }
+        }
+    }
 
     /// An n × n grid of quads on the unit square (z = 0), with `offset` added to each interior
     /// vertex at (i, j); the boundary vertices pinned.
