@@ -45,7 +45,12 @@ pub fn dissolve(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>) -> Vec<bool> {
         remove_marked(&mut mesh.quads, &gone);
         remove_marked(quad_face, &gone);
     }
-    // Renumber the vertices left.
+    drop_vertices(mesh, &dropped);
+    dropped
+}
+
+/// Removes the `dropped` vertices (used by no quad) and renumbers the others in their order.
+pub fn drop_vertices(mesh: &mut QuadMesh, dropped: &[bool]) {
     let mut index = vec![0u32; dropped.len()];
     let mut next = 0;
     for (v, &d) in dropped.iter().enumerate() {
@@ -55,9 +60,8 @@ pub fn dissolve(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>) -> Vec<bool> {
     for quad in &mut mesh.quads {
         quad.iter_mut().for_each(|u| *u = index[*u as usize]);
     }
-    remove_marked(&mut mesh.positions, &dropped);
-    remove_marked(&mut mesh.vertex_node, &dropped);
-    dropped
+    remove_marked(&mut mesh.positions, dropped);
+    remove_marked(&mut mesh.vertex_node, dropped);
 }
 
 /// Removes the items whose mark is set, keeping the order of the others.

@@ -6,6 +6,7 @@ pub mod quality;
 
 pub mod counts;
 pub mod density;
+pub mod diagonals;
 pub mod doublets;
 pub mod locate;
 pub mod rectify;
@@ -564,6 +565,11 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     doublets::remove_marked(&mut pinned, &dropped);
     doublets::remove_marked(&mut squared, &dropped);
     let surface = relax::Surface::new(&cut.positions, cut.triangles.clone());
+    // Two nodes one quad apart across a diagonal: merged where that leaves fewer irregular
+    // vertices (over 26 meshes' automatic layouts at --quads 4000, 2208 -> 2127).
+    let merged = diagonals::collapse(&mut mesh, &mut quad_face, &pinned, &surface);
+    doublets::remove_marked(&mut pinned, &merged);
+    doublets::remove_marked(&mut squared, &merged);
     let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared, options.rectify_steps, options.relax_rounds);
     Ok((mesh, Extraction { counts, desired, outside_points: map.outside, relaxed_vertices }))
 }

@@ -118,7 +118,7 @@ impl Surface {
 
     /// The nearest surface point to `p` and the unit normal of its triangle; `leaf` as
     /// [`TriangleTree::closest_from`] takes it.
-    fn project(&self, p: Vec3, leaf: &mut u32) -> Option<(Vec3, Vec3)> {
+    pub(super) fn project(&self, p: Vec3, leaf: &mut u32) -> Option<(Vec3, Vec3)> {
         let hit = self.tree.closest_from(p, leaf)?;
         let [a, b, c] = self.triangles[hit.triangle as usize];
         let n = cross(sub(b, a), sub(c, a));
