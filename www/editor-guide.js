@@ -8,7 +8,28 @@
 // length_error?, suggestion?: { vertex, at, reason } }.
 import * as L from './layout-doc.js';
 
-/** How many faces that need a node the Layout card lists. */
+/**
+ * The room a full "+ add a node here" label takes on screen, in pixels (editor.css
+ * `.guide-marker`, with a little space round it): labels closer than this cover each other.
+ */
+const LABEL = { w: 150, h: 30 };
+
+/**
+ * Which markers, at screen points `at` (the most important first), show the full label: each
+ * that would cover no label shown before it. The others show as a small "+" with the same
+ * click and title, so labels never pile up unreadably (a proposal on a detailed mesh can flag
+ * a dozen faces in one view).
+ * @param {{x: number, y: number}[]} at
+ * @returns {boolean[]}
+ */
+export function fullLabels(at, size = LABEL) {
+  const shown = [];
+  return at.map((p) => {
+    const free = shown.every((q) => Math.abs(p.x - q.x) >= size.w || Math.abs(p.y - q.y) >= size.h);
+    if (free) shown.push(p);
+    return free;
+  });
+}
 
 export class EditorGuide {
   /**
@@ -28,12 +49,23 @@ export class EditorGuide {
   set(faces) {
     this.faces = Array.isArray(faces) ? faces : [];
     this.shown = -1;
+    this.focus = null;
     this.place();
   }
 
   /** The faces a node would help, with the place for it. */
   suggestions() {
     return this.faces.filter((g) => g.suggestion && Number.isInteger(g.suggestion.vertex));
+  }
+
+  /**
+   * The suggestions, the most important first: the one "Show" last turned to, then the faces
+   * that hold most curvature, then the most distorted.
+   */
+  ranked() {
+    const weight = (g) => (g.face === this.focus ? 3 : g.needs_node ? 2 : 1);
+    const size = (g) => (g.needs_node ? Math.abs(g.curvature_deg) : g.length_error ?? 0);
+    return this.suggestions().sort((a, b) => weight(b) - weight(a) || size(b) - size(a));
   }
 
   /** One face's numbers in words (for the hint line and the Layout card), or null. */
@@ -71,6 +103,7 @@ export class EditorGuide {
     const places = this.needy().filter((g) => g.suggestion);
     if (!places.length) return null;
     this.shown = ((this.shown ?? -1) + 1) % places.length;
+    this.focus = places[this.shown].face;
     return places[this.shown].suggestion.at;
   }
 
@@ -98,23 +131,26 @@ export class EditorGuide {
     // Called from the controls' change event, before the frame that would update the
     // camera's matrices: project with the camera as it is now, not as last drawn.
     this.ed.viewer.camera.updateMatrixWorld();
-    const items = this.suggestions().map((g) => {
-      const at = g.suggestion.at;
-      const s = this.ed.picker.screenOf(at);
-      if (!s || !this.ed.picker.visible(at)) return null;
-      const rect = this.markers.parentElement.getBoundingClientRect();
+    const rect = this.markers.parentElement.getBoundingClientRect();
+    const seen = this.ranked()
+      .map((g) => ({ g, s: this.ed.picker.visible(g.suggestion.at) ? this.ed.picker.screenOf(g.suggestion.at) : null }))
+      .filter((m) => m.s);
+    const full = fullLabels(seen.map((m) => m.s));
+    const items = seen.map(({ g, s }, i) => {
       const b = document.createElement('button');
       b.type = 'button';
-      b.className = 'guide-marker';
+      b.className = full[i] ? 'guide-marker' : 'guide-marker compact';
       b.dataset.face = String(g.face);
-      b.textContent = '+ add a node here';
+      b.textContent = full[i] ? '+ add a node here' : '+';
+      b.setAttribute('aria-label', 'add a node here');
       b.title = `${this.describe(g.face)}. Click: a node here (${g.suggestion.reason === 'distortion' ? 'where its distortion concentrates' : 'where its curvature concentrates'}).`;
       b.style.left = `${s.x - rect.left}px`;
       b.style.top = `${s.y - rect.top}px`;
       b.addEventListener('click', () => this.accept(g.face));
       return b;
-    }).filter(Boolean);
-    this.markers.replaceChildren(...items);
+    });
+    // The full labels last, so a small "+" never covers one.
+    this.markers.replaceChildren(...items.filter((_, i) => !full[i]), ...items.filter((_, i) => full[i]));
   }
 }
 
