@@ -13,11 +13,12 @@
 //! tagged curve (the edge loops asked for stay), and where no quad round the merged vertex
 //! turns over.
 
-use super::doublets::drop_vertices;
+use super::doublets::{drop_vertices, remove_marked};
 use super::quality::quad_normal;
 use super::relax::Surface;
 use super::QuadMesh;
 use crate::geom::{add, dot, scale};
+use crate::mesh::NONE;
 
 /// Collapses the diagonals described in the module documentation, one pass over the quads
 /// (a collapse changes its neighbours' valences: the quads round it wait for another pass),
@@ -64,7 +65,7 @@ pub fn collapse(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>, kept: &[bool], su
                 }
                 round[b].iter().chain(&round[d]).for_each(|&r| touched[r as usize] = true);
                 mesh.positions[a] = at;
-                if mesh.vertex_node[a] == crate::mesh::NONE {
+                if mesh.vertex_node[a] == NONE {
                     mesh.vertex_node[a] = mesh.vertex_node[c];
                 }
                 gone[q] = true;
@@ -75,8 +76,8 @@ pub fn collapse(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>, kept: &[bool], su
         if !gone.contains(&true) {
             break;
         }
-        super::doublets::remove_marked(&mut mesh.quads, &gone);
-        super::doublets::remove_marked(quad_face, &gone);
+        remove_marked(&mut mesh.quads, &gone);
+        remove_marked(quad_face, &gone);
     }
     drop_vertices(mesh, &dropped);
     dropped
@@ -139,7 +140,6 @@ fn turns_over(mesh: &QuadMesh, round: &[Vec<u32>], q: usize, a: usize, c: usize,
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::NONE;
     use crate::quad::check_reads_back;
 
     /// A 4 × 4 grid of unit quads (z = 0) whose middle vertex m = (2, 2) is split in two along
