@@ -13,8 +13,8 @@
 //! tagged curve (the edge loops asked for stay), and where no quad round the merged vertex
 //! turns over.
 
-use super::doublets::{drop_vertices, remove_marked};
-use super::quality::quad_normal;
+use super::doublets::in_passes;
+use super::quality::{boundary_vertices, quad_normal};
 use super::relax::Surface;
 use super::QuadMesh;
 use crate::geom::{add, dot, scale};
@@ -27,19 +27,10 @@ use crate::mesh::NONE;
 /// the vertices' order follow as in [`super::doublets::dissolve`]; returns, per vertex as
 /// numbered before, whether it was dropped.
 pub fn collapse(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>, kept: &[bool], surface: &Surface) -> Vec<bool> {
-    let n = mesh.positions.len();
-    let mut dropped = vec![false; n];
     let mut leaf = 0;
-    loop {
-        let mut round: Vec<Vec<u32>> = vec![Vec::new(); n];
-        for (q, quad) in mesh.quads.iter().enumerate() {
-            for &v in quad {
-                round[v as usize].push(q as u32);
-            }
-        }
-        let boundary = boundary_vertices(mesh, n);
+    in_passes(mesh, quad_face, |mesh, round, gone, dropped| {
+        let boundary = boundary_vertices(mesh.positions.len(), &mesh.quads);
         let mut touched = vec![false; mesh.quads.len()];
-        let mut gone = vec![false; mesh.quads.len()];
         for q in 0..mesh.quads.len() {
             for k in 0..2 {
                 let quad = mesh.quads[q];
@@ -56,7 +47,7 @@ pub fn collapse(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>, kept: &[bool], su
                     continue;
                 }
                 let Some((at, _)) = surface.project(scale(0.5, add(mesh.positions[a], mesh.positions[c])), &mut leaf) else { continue };
-                if !merges_cleanly(mesh, &round, q, a, c) || turns_over(mesh, &round, q, a, c, at) {
+                if !merges_cleanly(mesh, round, q, a, c) || turns_over(mesh, round, q, a, c, at) {
                     continue;
                 }
                 for &r in round[a].iter().chain(&round[c]) {
@@ -73,33 +64,7 @@ pub fn collapse(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>, kept: &[bool], su
                 break;
             }
         }
-        if !gone.contains(&true) {
-            break;
-        }
-        remove_marked(&mut mesh.quads, &gone);
-        remove_marked(quad_face, &gone);
-    }
-    drop_vertices(mesh, &dropped);
-    dropped
-}
-
-/// Per vertex, whether it is on the boundary: on an edge of one quad only.
-fn boundary_vertices(mesh: &QuadMesh, n: usize) -> Vec<bool> {
-    let mut edges: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
-    for quad in &mesh.quads {
-        for k in 0..4 {
-            let (u, v) = (quad[k], quad[(k + 1) % 4]);
-            *edges.entry((u.min(v), u.max(v))).or_default() += 1;
-        }
-    }
-    let mut boundary = vec![false; n];
-    for ((u, v), count) in edges {
-        if count == 1 {
-            boundary[u as usize] = true;
-            boundary[v as usize] = true;
-        }
-    }
-    boundary
+    })
 }
 
 /// Whether `a` and `c`, opposite corners of quad `q`, share no quad but `q` and no neighbour
@@ -165,7 +130,7 @@ mod tests {
 
     /// Inside vertices with other than four quads.
     fn irregular(mesh: &QuadMesh) -> usize {
-        let boundary = boundary_vertices(mesh, mesh.positions.len());
+        let boundary = boundary_vertices(mesh.positions.len(), &mesh.quads);
         let mut valence = vec![0; mesh.positions.len()];
         mesh.quads.iter().flatten().for_each(|&v| valence[v as usize] += 1);
         (0..valence.len()).filter(|&v| !boundary[v] && valence[v] != 4).count()

@@ -13,20 +13,13 @@ use super::QuadMesh;
 /// the first one's face. Returns, per vertex as numbered before, whether it was dropped (the
 /// others keep their order), so other per-vertex lists can follow ([`remove_marked`]).
 pub fn dissolve(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>) -> Vec<bool> {
-    let mut dropped = vec![false; mesh.positions.len()];
     // Each pass merges the doublets that share no quad, in one sweep of the mesh; a merge can
     // leave a neighbour with two quads, which the next pass finds.
-    loop {
-        let mut round: Vec<Vec<usize>> = vec![Vec::new(); mesh.positions.len()];
-        for (q, quad) in mesh.quads.iter().enumerate() {
-            for &v in quad {
-                round[v as usize].push(q);
-            }
-        }
+    in_passes(mesh, quad_face, |mesh, round, gone, dropped| {
         let mut touched = vec![false; mesh.quads.len()];
-        let mut gone = vec![false; mesh.quads.len()];
         for v in 0..mesh.positions.len() as u32 {
             let [a, b] = round[v as usize][..] else { continue };
+            let (a, b) = (a as usize, b as usize);
             if touched[a] || touched[b] || !is_doublet(&mesh.quads[a], &mesh.quads[b], v) {
                 continue;
             }
@@ -39,6 +32,31 @@ pub fn dissolve(mesh: &mut QuadMesh, quad_face: &mut Vec<u32>) -> Vec<bool> {
             (touched[a], touched[b], gone[b]) = (true, true, true);
             dropped[v as usize] = true;
         }
+    })
+}
+
+/// Runs `pass` over `mesh` until one removes no quad, then drops the vertices the passes
+/// marked ([`drop_vertices`]); returns those marks, per vertex as numbered before. Each pass
+/// gets the quads round every vertex as it starts, marks the quads it removes (`gone`: they
+/// go after it, with their `quad_face`) and the vertices no quad uses any more (`dropped`).
+/// The clean-ups of the extracted mesh ([`dissolve`], [`super::diagonals::collapse`]) are
+/// such passes: each change alters its neighbours' valences, so the quads round it wait for
+/// the next pass.
+pub fn in_passes(
+    mesh: &mut QuadMesh,
+    quad_face: &mut Vec<u32>,
+    mut pass: impl FnMut(&mut QuadMesh, &[Vec<u32>], &mut [bool], &mut [bool]),
+) -> Vec<bool> {
+    let mut dropped = vec![false; mesh.positions.len()];
+    loop {
+        let mut round: Vec<Vec<u32>> = vec![Vec::new(); mesh.positions.len()];
+        for (q, quad) in mesh.quads.iter().enumerate() {
+            for &v in quad {
+                round[v as usize].push(q as u32);
+            }
+        }
+        let mut gone = vec![false; mesh.quads.len()];
+        pass(mesh, &round, &mut gone, &mut dropped);
         if !gone.contains(&true) {
             break;
         }

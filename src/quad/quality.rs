@@ -156,6 +156,12 @@ fn is_finite(p: Vec3) -> bool {
     p.iter().all(|x| x.is_finite())
 }
 
+/// Per vertex of `quads` (below `n_vertices`), whether it is on the boundary: on an edge of
+/// one quad only ([`EdgeTable`]).
+pub(super) fn boundary_vertices(n_vertices: usize, quads: &[[u32; 4]]) -> Vec<bool> {
+    EdgeTable::new(n_vertices, quads.iter()).on_boundary
+}
+
 /// The distinct edges of a quad mesh with the number of quads using each, and the valence
 /// and boundary status of each vertex derived from them.
 struct EdgeTable {
