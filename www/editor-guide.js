@@ -49,7 +49,6 @@ export class EditorGuide {
   set(faces) {
     this.faces = Array.isArray(faces) ? faces : [];
     this.shown = -1;
-    this.focus = null;
     this.place();
   }
 
@@ -63,7 +62,8 @@ export class EditorGuide {
    * that hold most curvature, then the most distorted.
    */
   ranked() {
-    const weight = (g) => (g.face === this.focus ? 3 : g.needs_node ? 2 : 1);
+    const focus = this.places()[this.shown]?.face;
+    const weight = (g) => (g.face === focus ? 3 : g.needs_node ? 2 : 1);
     const size = (g) => (g.needs_node ? Math.abs(g.curvature_deg) : g.length_error ?? 0);
     return this.suggestions().sort((a, b) => weight(b) - weight(a) || size(b) - size(a));
   }
@@ -100,11 +100,15 @@ export class EditorGuide {
    * curved first) one call at a time; null when none has a suggestion.
    */
   nextSuggestion() {
-    const places = this.needy().filter((g) => g.suggestion);
+    const places = this.places();
     if (!places.length) return null;
     this.shown = ((this.shown ?? -1) + 1) % places.length;
-    this.focus = places[this.shown].face;
     return places[this.shown].suggestion.at;
+  }
+
+  /** The faces that need a node and have a place for it, the most curved first: where "Show" goes round. */
+  places() {
+    return this.needy().filter((g) => g.suggestion);
   }
 
   /** Turns face f's suggestion into a node: an ordinary edit, undone like any other. */
