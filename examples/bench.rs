@@ -14,6 +14,7 @@
 
 use quadlay::field::{propose_layout, LayoutOptions, Proposal, ProposeError};
 use quadlay::io::read_mesh;
+use quadlay::mesh::refine::split_in_four;
 use quadlay::layout::{build_layout, parse_layout, SurfaceLayout};
 use quadlay::mesh::{geometry, topology, Mesh};
 use quadlay::param::{ParamOptions, ParamSession};
@@ -177,37 +178,17 @@ fn auto_layout_row(path: &str) -> String {
     row.to_string()
 }
 
-/// The bytes of the mesh file at `path` and the mesh read from them; exits with the CLI's
-/// code 2 on a file the bench cannot read (a wrong path, not a result).
+/// The bytes of the mesh file at `path` and the mesh read from them, refined where coarse
+/// as the commands refine it; exits with the CLI's code 2 on a file the bench cannot read (a
+/// wrong path, not a result).
 fn load(path: &str) -> (Vec<u8>, Mesh) {
     let read = std::fs::read(path)
         .map_err(|e| e.to_string())
-        .and_then(|bytes| read_mesh(&bytes, path).map(|m| (bytes, m.mesh)).map_err(|e| e.to_string()));
+        .and_then(|bytes| read_mesh(&bytes, path).map(|m| (bytes, m.refined().mesh)).map_err(|e| e.to_string()));
     read.unwrap_or_else(|e| {
         eprintln!("error: {path}: {e}");
         std::process::exit(2);
     })
-}
-
-/// Splits every triangle into four at its edge midpoints.
-fn subdivide(mesh: &Mesh) -> (Vec<[f64; 3]>, Vec<u32>) {
-    let mut positions = mesh.positions().to_vec();
-    let mut mid = std::collections::HashMap::new();
-    let mut faces = Vec::with_capacity(12 * mesh.n_faces());
-    for t in mesh.triangles() {
-        let m: Vec<u32> = (0..3)
-            .map(|k| {
-                let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
-                *mid.entry((a, b)).or_insert_with(|| {
-                    let (p, q) = (positions[a as usize], positions[b as usize]);
-                    positions.push([(p[0] + q[0]) / 2.0, (p[1] + q[1]) / 2.0, (p[2] + q[2]) / 2.0]);
-                    (positions.len() - 1) as u32
-                })
-            })
-            .collect();
-        faces.extend_from_slice(&[t[0], m[0], m[2], m[0], t[1], m[1], m[2], m[1], t[2], m[0], m[1], m[2]]);
-    }
-    (positions, faces)
 }
 
 fn main() {
@@ -216,7 +197,8 @@ fn main() {
         if flag == "--subdivide" {
             let bytes = std::fs::read(input).unwrap_or_else(|e| panic!("{input}: {e}"));
             let mesh = read_mesh(&bytes, input).unwrap_or_else(|e| panic!("{input}: {e}")).mesh;
-            let (positions, faces) = subdivide(&mesh);
+            let mut positions = mesh.positions().to_vec();
+            let faces: Vec<u32> = split_in_four(&mut positions, mesh.triangles()).into_iter().flatten().collect();
             let obj = quadlay::io::write_obj(quadlay::io::Polygons { positions: &positions, faces: &faces, arity: 3 }, None);
             std::fs::write(output, obj).unwrap_or_else(|e| panic!("{output}: {e}"));
             return;

@@ -4,7 +4,7 @@
 use quadlay::clock::now;
 use quadlay::io::{read_mesh_with_resources, write_glb, write_gltf, write_obj, write_ply, LoadedMesh, Polygons};
 use quadlay::field::{propose_layout, LayoutOptions, Proposal, ProposeError};
-use quadlay::layout::{build_layout_on, parse_layout, write_layout, ChartType, Layout, MeshCounts, SurfaceLayout};
+use quadlay::layout::{build_layout_on, parse_layout, write_layout, ChartType, Layout, MeshCounts, Numbering, SurfaceLayout};
 use quadlay::mesh::{repair_mesh, Mesh, RepairOptions};
 use quadlay::param::{input_uv::input_corner_uv, ParamError, ParamOptions, ParamSession};
 use quadlay::quad::{check_edge_length, default_edge_length, QuadError, QuadOptions};
@@ -113,8 +113,8 @@ fn check(args: &[String]) -> Result<(), Failure> {
         }
     }
     let path = mesh_path.ok_or_else(|| bad_input("check needs a mesh file".into()))?;
-    let (loaded, as_read) = load_repaired(path, &repairs)?;
-    let layout = layout_path.map(|lp| place_layout(&loaded.mesh, as_read, lp, read_layout(lp)?)).transpose()?;
+    let (loaded, numbering) = load_repaired(path, &repairs)?;
+    let layout = layout_path.map(|lp| place_layout(&loaded.mesh, numbering, lp, read_layout(lp)?)).transpose()?;
     let mut text = format!("mesh:           {path}\n{}", MeshSummary::of(&loaded));
     if let (Some(lp), Some(layout)) = (layout_path, layout) {
         text += &format!("layout:         {lp}\n{}", LayoutSummary::of(&layout));
@@ -128,8 +128,8 @@ fn read_layout(path: &str) -> Result<Layout, Failure> {
 }
 
 /// Places `layout` on `mesh`; its `mesh` entry may name the mesh as read or as repaired.
-fn place_layout(mesh: &Mesh, as_read: MeshCounts, path: &str, layout: Layout) -> Result<SurfaceLayout, Failure> {
-    build_layout_on(mesh, &layout, as_read).map_err(|e| bad_input(format!("{path}: {e}")))
+fn place_layout(mesh: &Mesh, numbering: Numbering, path: &str, layout: Layout) -> Result<SurfaceLayout, Failure> {
+    build_layout_on(mesh, &layout, numbering).map_err(|e| bad_input(format!("{path}: {e}")))
 }
 
 /// Takes `--keep-largest` or `--fill-holes N` (cli.md, "Repairs the user asks for") into
@@ -155,17 +155,20 @@ fn repair_option<'a>(
     Ok(true)
 }
 
-/// Loads the mesh at `path` and makes the repairs asked for; also returns the counts of the
-/// mesh as read, which layouts drawn before the repairs name.
-fn load_repaired(path: &str, options: &RepairOptions) -> Result<(LoadedMesh, MeshCounts), Failure> {
+/// Loads the mesh at `path`, makes the repairs asked for and refines it where it is coarse
+/// ([`LoadedMesh::refined`]); also returns the vertex numbering layout files use on it.
+fn load_repaired(path: &str, options: &RepairOptions) -> Result<(LoadedMesh, Numbering), Failure> {
     let loaded = load(path)?;
     let as_read = MeshCounts::of(&loaded.mesh);
-    if options.is_none() {
-        return Ok((loaded, as_read));
-    }
-    let (mesh, repairs) = repair_mesh(&loaded.mesh, &loaded.repairs, options)
-        .map_err(|e| bad_input(format!("{path}: the repairs asked for do not give a valid mesh: {e}")))?;
-    Ok((LoadedMesh { mesh, repairs, format: loaded.format }, as_read))
+    let repaired = if options.is_none() {
+        loaded
+    } else {
+        let (mesh, repairs) = repair_mesh(&loaded.mesh, &loaded.repairs, options)
+            .map_err(|e| bad_input(format!("{path}: the repairs asked for do not give a valid mesh: {e}")))?;
+        LoadedMesh { mesh, repairs, format: loaded.format }
+    };
+    let numbering = Numbering { as_read, numbered: MeshCounts::of(&repaired.mesh) };
+    Ok((repaired.refined(), numbering))
 }
 
 /// The options of `remesh` (cli.md).
@@ -288,7 +291,7 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     if a.report.as_deref() == Some("-") && !outputs::stdout_is_open() {
         return Err(Failure { code: 1, message: "--report -: standard output is closed".into() });
     }
-    let (loaded, as_read) = load_repaired(mesh_path, &a.repairs)?;
+    let (loaded, numbering) = load_repaired(mesh_path, &a.repairs)?;
     let mesh = &loaded.mesh;
     let t_load = now();
     let edge_length = match (a.edge_length, a.quads) {
@@ -301,11 +304,11 @@ fn remesh(args: &[String]) -> Result<(), Failure> {
     let layout_file = if layout_path == "auto" {
         let mut options = LayoutOptions::default();
         options.edge_length = Some(edge_length);
-        propose(mesh, mesh_path, &options)?.layout
+        propose(mesh, mesh_path, &options)?.layout.in_numbering(mesh, numbering)
     } else {
         read_layout(layout_path)?
     };
-    let layout = place_layout(mesh, as_read, layout_path, layout_file)?;
+    let layout = place_layout(mesh, numbering, layout_path, layout_file)?;
     // Refused before the parameterization, which would take its time for nothing.
     check_edge_length(&layout, edge_length).map_err(|e| bad_input(format!("{layout_path}: {e}")))?;
     let t_layout = now();
@@ -454,9 +457,10 @@ fn layout(args: &[String]) -> Result<(), Failure> {
     let mesh_path = a.mesh.as_deref().ok_or_else(|| bad_input("layout needs a mesh file".into()))?;
     let out = a.out.as_deref().ok_or_else(|| bad_input("layout needs -o LAYOUT.json".into()))?;
     outputs::check_distinct(&[("the input mesh", mesh_path)], &[("--out", out)])?;
-    let (loaded, _) = load_repaired(mesh_path, &a.repairs)?;
+    let (loaded, numbering) = load_repaired(mesh_path, &a.repairs)?;
     let p = propose(&loaded.mesh, mesh_path, &a.options)?;
-    outputs::commit(outputs::stage(vec![(out.to_string(), write_layout(&p.layout).into_bytes())])?)?;
+    let file = write_layout(&p.layout.in_numbering(&loaded.mesh, numbering));
+    outputs::commit(outputs::stage(vec![(out.to_string(), file.into_bytes())])?)?;
     let s = &p.surface;
     say(&format!(
         "{} nodes, {} edges ({} tagged), {} faces, {} T-vertices; {} singularities of the cross field; {:.2} s\n",

@@ -78,6 +78,12 @@ impl fmt::Display for MeshSummary {
         if r.filled_holes > 0 {
             made.push(format!("{} holes filled ({} vertices added)", r.filled_holes, r.fill_vertices));
         }
+        if r.refinements > 0 {
+            made.push(format!(
+                "refined: every triangle split in four, {} times (from {} vertices and {} triangles), so that a layout has room between the vertices",
+                r.refinements, r.vertices_before_refinement, r.triangles_before_refinement
+            ));
+        }
         if made.is_empty() {
             writeln!(f, "repairs:        none")?;
         }

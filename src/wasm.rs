@@ -8,7 +8,7 @@ use crate::culprits::Culprits;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh, ReadError};
 use crate::field::{compute_field, pick, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
-use crate::layout::{build_layout_on, curve, parse_layout, place, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, SurfaceLayout};
+use crate::layout::{build_layout_on, curve, parse_layout, place, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, Numbering, SurfaceLayout};
 use crate::mesh::{repair_mesh, Mesh, RepairOptions};
 use crate::param::chart::ChartKind;
 use crate::param::input_uv::input_corner_uv;
@@ -27,9 +27,9 @@ use wasm_bindgen::JsCast;
 #[wasm_bindgen]
 pub struct Session {
     loaded: LoadedMesh,
-    /// The mesh's counts as read, before the repairs the user asked for: a layout drawn
-    /// before them names these.
-    as_read: MeshCounts,
+    /// The vertex numbering layout files use on the mesh: as read, and after the repairs the
+    /// user asked for (before refinement).
+    numbering: Numbering,
     layout: Option<SurfaceLayout>,
     /// The active parameterization and the layout it ran on.
     param: Option<Run>,
@@ -224,8 +224,10 @@ impl Session {
             })?;
             loaded = LoadedMesh { mesh, repairs: made, format: loaded.format };
         }
+        let numbering = Numbering { as_read, numbered: MeshCounts::of(&loaded.mesh) };
+        let loaded = loaded.refined();
         let load_seconds = now() - t0;
-        Ok(Session { loaded, as_read, layout: None, param: None, kept: Vec::new(), load_seconds, layout_seconds: 0.0, tracings: None })
+        Ok(Session { loaded, numbering, layout: None, param: None, kept: Vec::new(), load_seconds, layout_seconds: 0.0, tracings: None })
     }
 
     /// Vertex positions, xyz interleaved, as `Float32Array`.
@@ -253,7 +255,7 @@ impl Session {
         let t0 = now();
         let mesh = &self.loaded.mesh;
         let layout = parse_layout(text)?;
-        let surface = build_layout_on(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
+        let surface = build_layout_on(mesh, &layout, self.numbering).map_err(|e| layout_error(e, &layout))?;
         self.layout_seconds = now() - t0;
         let curves = surface
             .curves
@@ -306,9 +308,10 @@ impl Session {
             curves: Option<usize>,
             error: Option<String>,
         }
+        let numbering = self.numbering;
         let made = |p: Proposal| {
             let note = p.patches_note(opts.patches);
-            Suggestion { layout: Some(write_layout(&p.layout)), field: Some(p.field.view(mesh)), note, ..Default::default() }
+            Suggestion { layout: Some(write_layout(&p.layout.in_numbering(mesh, numbering))), field: Some(p.field.view(mesh)), note, ..Default::default() }
         };
         let tracings = cached(&mut self.tracings, mesh, &opts).map_err(failed)?;
         let Some(k) = tracing else {
@@ -345,7 +348,7 @@ impl Session {
         let kept = match text {
             Some(text) => {
                 let layout = parse_layout(&text)?;
-                let placed = place(mesh, &layout, self.as_read).map_err(|e| layout_error(e, &layout))?;
+                let placed = place(mesh, &layout, self.numbering).map_err(|e| layout_error(e, &layout))?;
                 let surface = placed.with_patches(mesh, &layout).map_err(|e| layout_error(e, &layout))?;
                 Ok(Candidate { layout, surface, judged })
             }
@@ -359,7 +362,7 @@ impl Session {
             layout: String,
             judged: Option<Judged>,
         }
-        to_js(&Chosen { layout: write_layout(&kept.layout), judged: kept.judged })
+        to_js(&Chosen { layout: write_layout(&kept.layout.in_numbering(mesh, self.numbering)), judged: kept.judged })
     }
 
     /// The surface's cross field alone, for the page's field view: `options`

@@ -7,10 +7,9 @@
 
 mod common;
 
-use common::load_mesh;
+use common::{load_mesh, load_working_mesh};
 use quadlay::field::{propose_layout, LayoutOptions, ProposeError};
-use quadlay::layout::parse_layout;
-use quadlay::layout::write_layout;
+use quadlay::layout::{build_layout_on, parse_layout, write_layout, Location, Numbering};
 use quadlay::mesh::geometry::triangle_areas;
 use quadlay::mesh::topology::topology;
 use quadlay::param::{ParamOptions, ParamSession};
@@ -24,7 +23,7 @@ fn shared_meshes_get_valid_layouts_and_quads() {
     let mut table = Vec::new();
     let mut failures = Vec::new();
     for name in ["nefertiti.obj", "eight.obj", "bunny_1k8.obj", "mushroom.obj", "fandisk.obj", "bunny_28k.obj", "elephant_44k.obj"] {
-        let mesh = load_mesh(name);
+        let (mesh, file) = load_working_mesh(name);
         let t0 = Instant::now();
         let p = match propose_layout(&mesh, &LayoutOptions::default()) {
             Ok(p) => p,
@@ -39,9 +38,15 @@ fn shared_meshes_get_valid_layouts_and_quads() {
             }
         };
         let seconds = t0.elapsed().as_secs_f64();
-        // The file reads back as written.
-        let text = write_layout(&p.layout);
-        assert_eq!(parse_layout(&text).unwrap(), p.layout);
+        // The file reads back as written, and on the mesh it was made on (refined where
+        // coarse) the file's numbering puts every node where the proposal put it.
+        let numbering = Numbering { as_read: file, numbered: file };
+        let text = write_layout(&p.layout.in_numbering(&mesh, numbering));
+        let read = parse_layout(&text).unwrap();
+        assert_eq!((read.edges.len(), read.mesh), (p.layout.edges.len(), Some(file)), "{name}");
+        assert!(read.nodes.iter().all(|l| !matches!(l, Location::Vertex(v) if *v >= file.vertices as u64)), "{name}");
+        let placed = build_layout_on(&mesh, &read, numbering).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(placed.node_vertex, p.surface.node_vertex, "{name}");
         let s = &p.surface;
         let layout_line = format!(
             "{} nodes, {} edges ({} tagged), {} faces, {} T-vertices, {} singularities",

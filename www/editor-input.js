@@ -181,7 +181,7 @@ export class EditorInput {
     let curves = null;
     const moved = new Set(drag.node != null ? this.incidentEdges(drag.node) : [drag.edge]);
     try {
-      const view = await this.ed.client.setLayout(JSON.stringify(this.dragDoc(drag)));
+      const view = await this.ed.client.setLayout(JSON.stringify(L.inNumbering(this.dragDoc(drag), this.ed.mesh)));
       curves = view.curves.filter((c) => moved.has(L.edgeIndex(c.source))).map((c) => c.points);
     } catch {
       // an invalid place: the dashed lines show it until the next one

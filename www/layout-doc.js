@@ -28,13 +28,45 @@ export function parseDoc(text) {
 }
 
 /**
- * The layout file's text: format v1, one node, edge or patch per line. `mesh` (`{ vertices,
- * triangles }` of the mesh it is drawn on) is written as the file's `mesh` entry unless the
+ * The counts of the vertex numbering a layout file uses on `mesh` (`{ positions, summary }`
+ * as the core loaded it): the mesh's own, or where the core refined a coarse mesh (its
+ * summary's repairs say), the mesh's before that.
+ */
+export function numberedCounts(mesh) {
+  const { repairs, vertices, triangles } = mesh.summary;
+  return repairs?.refinements > 0
+    ? { vertices: repairs.vertices_before_refinement, triangles: repairs.triangles_before_refinement }
+    : { vertices, triangles };
+}
+
+/**
+ * `doc` as a file gives it on `mesh` (`{ positions, summary }`): a node or waypoint on a vertex
+ * past the file's numbering (one the core's refinement added) by its point, which the core
+ * snaps back to the same vertex. The core refuses such an index, as the file format does.
+ */
+export function inNumbering(doc, mesh) {
+  if (!mesh?.summary) return doc;
+  const numbered = numberedCounts(mesh).vertices;
+  const n = mesh.positions.length / 3;
+  const named = (loc) => (Number.isInteger(loc?.vertex) && loc.vertex >= numbered && loc.vertex < n
+    ? { point: Array.from(mesh.positions.subarray(3 * loc.vertex, 3 * loc.vertex + 3)) }
+    : loc);
+  return {
+    ...doc,
+    nodes: (doc.nodes ?? []).map(named),
+    edges: (doc.edges ?? []).map((e) => (e.via ? { ...e, via: e.via.map(named) } : e)),
+  };
+}
+
+/**
+ * The layout file's text: format v1, one node, edge or patch per line. With `mesh` (`{
+ * positions, summary }` of the mesh it is drawn on), the document as a file gives it there
+ * ([`inNumbering`]) and the counts of its numbering as the file's `mesh` entry, unless the
  * document has one already (a layout loaded for another mesh keeps saying so).
  */
 export function toText(doc, mesh = null) {
-  const counts = mesh ? { mesh: { vertices: mesh.vertices, triangles: mesh.triangles } } : {};
-  const { format = 'quad-layout', version = 1, nodes = [], edges = [], ...rest } = { ...counts, ...doc };
+  const counts = mesh ? { mesh: numberedCounts(mesh) } : {};
+  const { format = 'quad-layout', version = 1, nodes = [], edges = [], ...rest } = { ...counts, ...inNumbering(doc, mesh) };
   const list = (items) => (items.length ? `[\n${items.map((x) => `  ${JSON.stringify(x)}`).join(',\n')}\n ]` : '[]');
   const lines = [
     ` "format": ${JSON.stringify(format)}`,

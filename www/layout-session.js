@@ -150,7 +150,7 @@ export class LayoutSession {
       view = null;
       error = null;
       try {
-        view = await this.client.setLayout(JSON.stringify(doc));
+        view = await this.client.setLayout(JSON.stringify(L.inNumbering(doc, this.mesh)));
       } catch (err) {
         error = err;
       }
@@ -260,7 +260,7 @@ export class LayoutSession {
 
   /** The layout file's text (format v1). */
   text() {
-    return L.toText(this.doc, this.mesh?.summary);
+    return L.toText(this.doc, this.mesh);
   }
 
   resolveNodes() {

@@ -204,7 +204,10 @@ function repairsOffered(mesh, repairs) {
     offered.keepLargest = () => repair({ keep_largest: true }).catch(() => {});
   }
   if (s.boundary_loops > 0) {
-    const sizes = boundaryLoopSizes(mesh.triangles, mesh.positions.length / 3);
+    // In the file's edges: a refinement (the summary's repairs) halved every boundary edge,
+    // and the repair counts the file's.
+    const halved = 2 ** (s.repairs?.refinements ?? 0);
+    const sizes = boundaryLoopSizes(mesh.triangles, mesh.positions.length / 3).map((n) => n / halved);
     const edges = sizes.length > 1 ? sizes[1] : sizes[0];
     if (edges > 0) offered.fillHoles = { edges, run: () => repair({ fill_holes: edges }).catch(() => {}) };
   }

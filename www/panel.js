@@ -48,20 +48,27 @@ export function renderSummary(summary, name, repairs = {}) {
   $('file-name').title = name;
   $('summary-empty').hidden = true;
   const loops = summary.boundary_loops;
-  const parts = [`${num(summary.vertices)} vertices`, `${num(summary.triangles)} triangles`,
+  // The file's counts: the core works on a coarse mesh refined (a row below says so).
+  const { refinements, vertices_before_refinement: _v, triangles_before_refinement: _t, ...listed } = summary.repairs;
+  const file = refinements > 0 ? { vertices: _v, triangles: _t } : summary;
+  const parts = [`${num(file.vertices)} vertices`, `${num(file.triangles)} triangles`,
     loops ? `${num(loops)} boundary loop${loops === 1 ? '' : 's'}` : 'closed', `genus ${num(summary.genus)}`];
   if (summary.components.length > 1) parts.push(`${num(summary.components.length)} components`);
   $('summary-line').textContent = parts.join(' · ');
-  const made = Object.entries(summary.repairs).some(([, v]) => (typeof v === 'number' ? v > 0 : Boolean(v)));
+  const made = Object.entries(listed).some(([, v]) => (typeof v === 'number' ? v > 0 : Boolean(v)));
   $('summary-details').open = summary.components.length > 1 || loops > 1 || made;
   const rows = [];
   const row = (key, label, value, cls = '') => rows.push([key, label, value, cls]);
   const group = (label) => rows.push([null, label]);
 
   row('format', 'Format', summary.format.toUpperCase());
-  row('vertices', 'Vertices', num(summary.vertices));
-  row('triangles', 'Triangles', num(summary.triangles));
-  row('edges', 'Edges', num(summary.edges));
+  row('vertices', 'Vertices', num(file.vertices));
+  row('triangles', 'Triangles', num(file.triangles));
+  if (refinements > 0) {
+    row('refined', 'Refined to', `${num(summary.triangles)} triangles`, 'sub');
+  } else {
+    row('edges', 'Edges', num(summary.edges));
+  }
   row('boundary_loops', 'Boundary loops', repairs.fillHoles
     ? [num(loops), button('repair-fill-holes', `Fill holes ≤ ${num(repairs.fillHoles.edges)} edges`,
       `close every boundary loop of at most ${repairs.fillHoles.edges} edges, smoothly (the longest loop stays open)`, repairs.fillHoles.run)]
@@ -81,8 +88,7 @@ export function renderSummary(summary, name, repairs = {}) {
   row('size', 'Size', lo.map((l, i) => short(hi[i] - l)).join(' × '), 'dims');
 
   group('Repairs');
-  const { welded_vertices: welded, removed_zero_area_faces: removed, unreferenced_vertices: unref, ...asked } =
-    summary.repairs;
+  const { welded_vertices: welded, removed_zero_area_faces: removed, unreferenced_vertices: unref, ...asked } = listed;
   if (!made) {
     row('repairs', 'None needed', '✓', 'ok');
   } else {

@@ -50,7 +50,7 @@ use super::features::Features;
 use super::{compute_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
-use crate::layout::{curve, face_named_by, place, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, Placement, SurfaceLayout, MAX_WAYPOINTS};
+use crate::layout::{curve, face_named_by, place, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, Numbering, Placement, SurfaceLayout, MAX_WAYPOINTS};
 use crate::geom::{norm, sub, Vec3};
 use crate::mesh::geometry::corner_angle;
 use crate::mesh::topology::topology;
@@ -283,7 +283,7 @@ impl Tracings {
             },
         };
         // Placed once more (the placement was not kept), for both versions.
-        Ok(match place(mesh, &kept.layout, MeshCounts::of(mesh)) {
+        Ok(match place(mesh, &kept.layout, Numbering::of(mesh)) {
             Ok(placed) => with_corners_chosen(mesh, &self.field, &placed, kept, options),
             Err(_) => kept,
         })
@@ -1306,7 +1306,7 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
         ..Default::default()
     };
     // Placed once: the patches change only the corners.
-    let placed = place(mesh, &layout, MeshCounts::of(mesh)).map_err(Rejected::Layout)?;
+    let placed = place(mesh, &layout, Numbering::of(mesh)).map_err(Rejected::Layout)?;
     write_patches(mesh, field, &placed, layout, 0.0, set_up)
 }
 
@@ -1404,7 +1404,7 @@ mod tests {
         let mut made: Vec<Candidate> = (0..tracings.count()).map(|k| tracings.candidate(&mesh, k, &options).unwrap()).collect();
         let kept = propose_layout(&mesh, &options).unwrap();
         let i = pick(&made.iter().map(|c| Some(c.summary())).collect::<Vec<_>>()).unwrap();
-        let placed = place(&mesh, &made[i].layout, MeshCounts::of(&mesh)).unwrap();
+        let placed = place(&mesh, &made[i].layout, Numbering::of(&mesh)).unwrap();
         let chosen = with_corners_chosen(&mesh, &tracings.field, &placed, made.swap_remove(i), &options);
         assert_eq!(kept.layout, chosen.layout);
     }
@@ -1421,7 +1421,7 @@ mod tests {
         assert!(c.surface.faces.len() >= 8, "{} faces", c.surface.faces.len());
         let judged = c.judged.expect("its quads judged");
         assert!(judged.hausdorff < 0.1, "{judged:?}");
-        place(&mesh, &c.layout, MeshCounts::of(&mesh)).unwrap().with_patches(&mesh, &c.layout).unwrap();
+        place(&mesh, &c.layout, Numbering::of(&mesh)).unwrap().with_patches(&mesh, &c.layout).unwrap();
         // And a tracing's layout near the surface is kept as it is, up to its corners.
         let made = tracings.candidate(&mesh, 0, &options).unwrap();
         let edges = made.layout.edges.clone();
@@ -1449,12 +1449,12 @@ mod tests {
         let tracings = Tracings::new(&mesh, &options).unwrap();
         let field = &tracings.tracings[0];
         let (layout, surface) = propose_along(&mesh, field, &options).unwrap();
-        let placed = place(&mesh, &layout, MeshCounts::of(&mesh)).unwrap();
+        let placed = place(&mesh, &layout, Numbering::of(&mesh)).unwrap();
         let (together, surface_together) = with_corners_together(&mesh, field, &placed, &layout, CORNER_BUDGETS[0]).unwrap();
         assert_eq!(together.edges, layout.edges);
         let (before, after) = (irregular_nodes(&mesh, &surface), irregular_nodes(&mesh, &surface_together));
         assert!(after + 2 <= before, "{before} -> {after}");
-        let read = place(&mesh, &together, MeshCounts::of(&mesh)).unwrap().with_patches(&mesh, &together).unwrap();
+        let read = place(&mesh, &together, Numbering::of(&mesh)).unwrap().with_patches(&mesh, &together).unwrap();
         let corners = |s: &SurfaceLayout| s.faces.iter().map(|f| f.corners.map(|k| f.nodes[k])).collect::<Vec<_>>();
         assert_eq!(corners(&read), corners(&surface_together));
     }

@@ -11,7 +11,7 @@ pub mod stl;
 mod text;
 mod weld;
 
-use crate::mesh::{build_mesh, Mesh, MeshError, Repairs, TriangleSoup};
+use crate::mesh::{build_mesh, refine_coarse, Mesh, MeshError, Repairs, TriangleSoup};
 use crate::quote::quoted;
 use std::fmt;
 
@@ -116,6 +116,26 @@ pub struct LoadedMesh {
     pub mesh: Mesh,
     pub repairs: Repairs,
     pub format: Format,
+}
+
+impl LoadedMesh {
+    /// This mesh refined where it is coarse ([`refine_coarse`]), the refinement listed with
+    /// the repairs: every command and the page work on the refined mesh, and layouts drawn on
+    /// the mesh as read stay valid on it.
+    pub fn refined(self) -> LoadedMesh {
+        match refine_coarse(&self.mesh) {
+            Some((mesh, refinements)) => {
+                let repairs = Repairs {
+                    refinements,
+                    vertices_before_refinement: self.mesh.n_vertices(),
+                    triangles_before_refinement: self.mesh.n_faces(),
+                    ..self.repairs
+                };
+                LoadedMesh { mesh, repairs, format: self.format }
+            }
+            None => self,
+        }
+    }
 }
 
 /// Reads a mesh from `bytes`; `name` (a file name) decides the format by its extension.

@@ -93,6 +93,24 @@ impl MeshCounts {
     }
 }
 
+/// The meshes whose vertex numbering a layout file may use on the mesh at hand: the file as
+/// read, and the mesh as numbered after the repairs the user asked for (which number new
+/// vertices after the file's). The mesh worked on may have more vertices past those
+/// ([`crate::mesh::refine_coarse`]): a file names them by their points
+/// ([`Layout::in_numbering`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Numbering {
+    pub as_read: MeshCounts,
+    pub numbered: MeshCounts,
+}
+
+impl Numbering {
+    /// The numbering of `mesh` itself: every vertex by its index.
+    pub fn of(mesh: &Mesh) -> Numbering {
+        Numbering { as_read: MeshCounts::of(mesh), numbered: MeshCounts::of(mesh) }
+    }
+}
+
 impl fmt::Display for MeshCounts {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{} vertices and {} triangles", self.vertices, self.triangles)
@@ -116,6 +134,25 @@ impl Layout {
     pub fn uses_vertex_indices(&self) -> bool {
         let vertex = |l: &Location| matches!(l, Location::Vertex(_));
         self.nodes.iter().any(vertex) || self.edges.iter().flat_map(|e| &e.via).any(vertex)
+    }
+
+    /// This layout, made on `mesh`, as a file gives it in `numbering`: nodes and waypoints on
+    /// vertices past the numbering by their points (snapped back to the same vertices), and
+    /// the numbered mesh as its `mesh` entry.
+    pub fn in_numbering(&self, mesh: &Mesh, numbering: Numbering) -> Layout {
+        let named = |l: &Location| match *l {
+            Location::Vertex(v) if v >= numbering.numbered.vertices as u64 && (v as usize) < mesh.n_vertices() => {
+                Location::Point(mesh.position(v as u32))
+            }
+            _ => *l,
+        };
+        let mut out = self.clone();
+        out.nodes = self.nodes.iter().map(named).collect();
+        for e in &mut out.edges {
+            e.via = e.via.iter().map(named).collect();
+        }
+        out.mesh = Some(numbering.numbered);
+        out
     }
 
     /// Checks the `mesh` entry against the mesh at hand (layout-format.md, "mesh"): when the
@@ -557,12 +594,12 @@ pub fn write_layout(layout: &Layout) -> String {
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
 }
 
-/// The mesh vertex of a location: the vertex itself (checked), or the nearest vertex that
-/// belongs to a triangle.
-pub fn resolve_location(mesh: &Mesh, l: &Location, entry: &str) -> Result<u32, LayoutFileError> {
+/// The mesh vertex of a location: the vertex itself (checked: below `vertices`, the count
+/// of the numbering the file uses), or the nearest vertex that belongs to a triangle.
+pub fn resolve_location(mesh: &Mesh, l: &Location, entry: &str, vertices: usize) -> Result<u32, LayoutFileError> {
     match *l {
         Location::Vertex(v) => {
-            let vertices = mesh.n_vertices();
+            let vertices = vertices.min(mesh.n_vertices());
             let Some(v) = u32::try_from(v).ok().filter(|&v| (v as usize) < vertices) else {
                 return Err(err(entry, Problem::NoSuchVertex { vertex: v, vertices }));
             };
@@ -584,14 +621,15 @@ pub fn resolve_location(mesh: &Mesh, l: &Location, entry: &str) -> Result<u32, L
     }
 }
 
-/// The mesh vertex of every node; two nodes on one vertex are an error.
-pub fn resolve_nodes(mesh: &Mesh, layout: &Layout) -> Result<Vec<u32>, LayoutFileError> {
+/// The mesh vertex of every node ([`resolve_location`]); two nodes on one vertex are an
+/// error.
+pub fn resolve_nodes(mesh: &Mesh, layout: &Layout, vertices: usize) -> Result<Vec<u32>, LayoutFileError> {
     let mut owner = std::collections::HashMap::new();
     let mut out = Vec::with_capacity(layout.nodes.len());
     for (i, l) in layout.nodes.iter().enumerate() {
         let entry = format!("nodes[{i}]");
         let node = Element::Node(i as u32);
-        let v = resolve_location(mesh, l, &entry).map_err(|e| e.within(node))?;
+        let v = resolve_location(mesh, l, &entry, vertices).map_err(|e| e.within(node))?;
         if let Some(&other) = owner.get(&v) {
             return Err(err(entry, Problem::SameVertex { vertex: v, other }).within(node));
         }

@@ -14,7 +14,7 @@ use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
 use curve::{meeting_point_of, trace_curve, Curve, CurvePoint, Prepared};
 use embedding::{rotation, trace_faces, CurveNodes, Directed};
-pub use file::{parse_layout, write_layout, ChartType, Element, Entry, Layout, LayoutFileError, Location, MeshCounts, MAX_WAYPOINTS};
+pub use file::{parse_layout, write_layout, ChartType, Element, Entry, Layout, LayoutFileError, Location, MeshCounts, Numbering, MAX_WAYPOINTS};
 use crate::culprits::Culprits;
 use std::fmt;
 
@@ -248,17 +248,18 @@ impl From<LayoutFileError> for LayoutError {
 /// # Errors
 /// Every rule of the layout format; see [`LayoutError`].
 pub fn build_layout(mesh: &Mesh, layout: &Layout) -> Result<SurfaceLayout, LayoutError> {
-    build_layout_on(mesh, layout, MeshCounts::of(mesh))
+    build_layout_on(mesh, layout, Numbering::of(mesh))
 }
 
-/// [`build_layout`] on a mesh that repairs the user asked for (`--keep-largest`,
-/// `--fill-holes`) made from the file's mesh of `as_read` counts: the vertex numbering is
-/// the file's, so a layout drawn on either is accepted (its `mesh` entry may name either).
+/// [`build_layout`] on a mesh made from the file's by the repairs the user asked for
+/// (`--keep-largest`, `--fill-holes`) and by refinement ([`crate::mesh::refine_coarse`]):
+/// the vertex numbering is `numbering`'s, so a layout drawn on the file's mesh or on the
+/// repaired one is accepted (its `mesh` entry may name either).
 ///
 /// # Errors
 /// Every rule of the layout format; see [`LayoutError`].
-pub fn build_layout_on(mesh: &Mesh, layout: &Layout, as_read: MeshCounts) -> Result<SurfaceLayout, LayoutError> {
-    place(mesh, layout, as_read)?.with_patches(mesh, layout)
+pub fn build_layout_on(mesh: &Mesh, layout: &Layout, numbering: Numbering) -> Result<SurfaceLayout, LayoutError> {
+    place(mesh, layout, numbering)?.with_patches(mesh, layout)
 }
 
 /// A layout placed on the surface up to its faces' corners: all that its `patches` and
@@ -281,9 +282,10 @@ pub struct Placement {
 ///
 /// # Errors
 /// Every rule of the layout format but those of `patches`; see [`LayoutError`].
-pub fn place(mesh: &Mesh, layout: &Layout, as_read: MeshCounts) -> Result<Placement, LayoutError> {
-    layout.check_mesh(&[MeshCounts::of(mesh), as_read])?;
-    let node_vertex = file::resolve_nodes(mesh, layout)?;
+pub fn place(mesh: &Mesh, layout: &Layout, numbering: Numbering) -> Result<Placement, LayoutError> {
+    layout.check_mesh(&[numbering.as_read, numbering.numbered])?;
+    let indexed = numbering.numbered.vertices;
+    let node_vertex = file::resolve_nodes(mesh, layout, indexed)?;
     let mut is_node = vec![false; mesh.n_vertices()];
     for &v in &node_vertex {
         is_node[v as usize] = true;
@@ -305,7 +307,7 @@ pub fn place(mesh: &Mesh, layout: &Layout, as_read: MeshCounts) -> Result<Placem
         let mut stops = vec![node_vertex[e.nodes[0] as usize]];
         for (k, w) in e.via.iter().enumerate() {
             let entry = format!("edges[{i}].via[{k}]");
-            let v = file::resolve_location(mesh, w, &entry).map_err(|e| e.within(Element::Edge(i as u32)))?;
+            let v = file::resolve_location(mesh, w, &entry, indexed).map_err(|e| e.within(Element::Edge(i as u32)))?;
             if let Some(n) = node_of(v) {
                 let reason = format!("waypoint {k} lies on node {n}; curves may meet only at their own ends");
                 return Err(LayoutError::NoPath { edge: i, reason });

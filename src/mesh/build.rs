@@ -39,6 +39,12 @@ pub struct Repairs {
     /// Boundary loops closed because the user asked to fill holes, and the vertices added.
     pub filled_holes: usize,
     pub fill_vertices: usize,
+    /// How many times every triangle was split into four because the mesh was coarse
+    /// ([`refine_coarse`](super::refine_coarse)), and the vertices and triangles it had
+    /// before.
+    pub refinements: usize,
+    pub vertices_before_refinement: usize,
+    pub triangles_before_refinement: usize,
 }
 
 impl Repairs {

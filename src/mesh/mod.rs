@@ -12,10 +12,12 @@
 pub mod build;
 pub mod geometry;
 pub mod primitives;
+pub mod refine;
 pub mod repair;
 pub mod topology;
 
 pub use build::{build_mesh, BuiltMesh, MeshError, Repairs, TriangleSoup};
+pub use refine::refine_coarse;
 pub use repair::{repair_mesh, RepairOptions};
 
 /// The sentinel handle: no vertex, halfedge, edge or face.

@@ -38,6 +38,16 @@ pub fn load_mesh(name: &str) -> Mesh {
     quadlay::io::read_mesh(&bytes, name).unwrap_or_else(|e| panic!("{name}: {e}")).mesh
 }
 
+/// A shared mesh as the commands and the page work on it: refined where it is coarse
+/// (`LoadedMesh::refined`), with the counts of the file, whose vertex numbering layout files
+/// use.
+pub fn load_working_mesh(name: &str) -> (Mesh, quadlay::layout::MeshCounts) {
+    let bytes = std::fs::read(shared_mesh(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let loaded = quadlay::io::read_mesh(&bytes, name).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let file = quadlay::layout::MeshCounts::of(&loaded.mesh);
+    (loaded.refined().mesh, file)
+}
+
 pub fn mesh_of(positions: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Mesh {
     build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).expect("test mesh").mesh
 }

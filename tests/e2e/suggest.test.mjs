@@ -6,6 +6,7 @@
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
+import { tetrahedra } from '../fixtures/tetrahedra.mjs';
 import { outDir, startBrowser } from './harness.mjs';
 
 const TIMEOUT = 60_000;
@@ -118,9 +119,9 @@ test('Cancel leaves the layout as it was; a mesh without a layout says why', asy
   await waitFor(page, (q) => !q.editor.checking);
   assert.ok(await page.evaluate(() => window.quadlay.editor.summary));
 
-  // A tetrahedron: four triangles, no face of a layout has a vertex inside.
-  const tet = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n';
-  await page.evaluate((text) => window.quadlay.load(new File([text], 'tetrahedron.obj')), tet);
+  // A thousand tetrahedra, too many triangles to be refined: no face of a layout has a
+  // vertex inside.
+  await page.evaluate((text) => window.quadlay.load(new File([text], 'tetrahedra.obj')), tetrahedra(1000));
   const err = await page.evaluate(() => window.quadlay.suggest().then(() => null, (e) => e.message));
   assert.match(err, /no valid layout could be made automatically: /);
   assert.match(await page.locator('#suggest-message').textContent(), /^No layout suggested: no valid layout could be made automatically: .+/);

@@ -5,6 +5,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { test } from 'node:test';
+import { tetrahedra } from '../fixtures/tetrahedra.mjs';
 
 const require = createRequire(import.meta.url);
 const { Session, pickSuggestion } = require('../../target/wasm-node/quadlay.js');
@@ -165,8 +166,9 @@ test('proposals made apart and picked are the one suggestion', () => {
       fresh.free();
     }
     // A proposal that failed is null; none made: null, and the first one's error is what one
-    // call throws (a tetrahedron: no face of a layout has a vertex inside).
-    const tet = new Session(obj('v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n'), 'tet.obj');
+    // call throws (a thousand tetrahedra, too many triangles to be refined: no face of a
+    // layout has a vertex inside).
+    const tet = new Session(obj(tetrahedra(1000)), 'tetrahedra.obj');
     const failed = tet.suggestLayout({ tracing: 0 });
     assert.equal(failed.layout, null);
     assert.throws(() => tet.suggestLayout({}), (err) => err.message === failed.error);
