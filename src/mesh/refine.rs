@@ -45,7 +45,8 @@ pub fn split_in_four(positions: &mut Vec<[f64; 3]>, triangles: &[[u32; 3]]) -> V
             let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
             *midpoint.entry((a, b)).or_insert_with(|| {
                 let (p, q) = (positions[a as usize], positions[b as usize]);
-                positions.push(std::array::from_fn(|i| 0.5 * (p[i] + q[i])));
+                // Halves first: the sum of two coordinates near ±f64::MAX would overflow.
+                positions.push(std::array::from_fn(|i| 0.5 * p[i] + 0.5 * q[i]));
                 (positions.len() - 1) as u32
             })
         });
