@@ -3,11 +3,14 @@
 // with the same mesh offers to restore it. The last steps of the undo history are saved
 // with it, so after restoring, Ctrl+Z takes back the last edit, not the whole layout.
 
+import { numberedCounts } from './layout-doc.js';
+
 const PREFIX = 'quadlay.layout:';
 
-/** The storage key of a mesh. */
+/** The storage key of a mesh: its file's counts, whatever the core's refinement made of it. */
 export function meshKey(name, summary) {
-  return `${PREFIX}${name}:${summary.vertices}:${summary.triangles}`;
+  const { vertices, triangles } = numberedCounts(summary);
+  return `${PREFIX}${name}:${vertices}:${triangles}`;
 }
 
 /** How many steps of the undo history are saved with a layout. */

@@ -28,12 +28,12 @@ export function parseDoc(text) {
 }
 
 /**
- * The counts of the vertex numbering a layout file uses on `mesh` (`{ positions, summary }`
- * as the core loaded it): the mesh's own, or where the core refined a coarse mesh (its
- * summary's repairs say), the mesh's before that.
+ * The counts of the vertex numbering layout files use on a mesh the core loaded, from its
+ * `summary`: the mesh's own, or where the core refined a coarse mesh (the summary's repairs
+ * say), the mesh's before that: the file's, which stay the same whatever the refinement.
  */
-export function numberedCounts(mesh) {
-  const { repairs, vertices, triangles } = mesh.summary;
+export function numberedCounts(summary) {
+  const { repairs, vertices, triangles } = summary;
   return repairs?.refinements > 0
     ? { vertices: repairs.vertices_before_refinement, triangles: repairs.triangles_before_refinement }
     : { vertices, triangles };
@@ -42,20 +42,21 @@ export function numberedCounts(mesh) {
 /**
  * `doc` as a file gives it on `mesh` (`{ positions, summary }`): a node or waypoint on a vertex
  * past the file's numbering (one the core's refinement added) by its point, which the core
- * snaps back to the same vertex. The core refuses such an index, as the file format does.
+ * snaps back to the same vertex. The core refuses such an index, as the file format does;
+ * and the documents the editor keeps (undo, autosave) stay valid on the mesh refined anew
+ * after a repair, which numbers the refinement's vertices differently.
  */
 export function inNumbering(doc, mesh) {
-  if (!mesh?.summary) return doc;
-  const numbered = numberedCounts(mesh).vertices;
+  if (!(mesh?.summary?.repairs?.refinements > 0)) return doc;
+  const numbered = numberedCounts(mesh.summary).vertices;
   const n = mesh.positions.length / 3;
   const named = (loc) => (Number.isInteger(loc?.vertex) && loc.vertex >= numbered && loc.vertex < n
     ? { point: Array.from(mesh.positions.subarray(3 * loc.vertex, 3 * loc.vertex + 3)) }
     : loc);
-  return {
-    ...doc,
-    nodes: (doc.nodes ?? []).map(named),
-    edges: (doc.edges ?? []).map((e) => (e.via ? { ...e, via: e.via.map(named) } : e)),
-  };
+  const next = { ...doc };
+  if (doc.nodes) next.nodes = doc.nodes.map(named);
+  if (doc.edges) next.edges = doc.edges.map((e) => (e.via ? { ...e, via: e.via.map(named) } : e));
+  return next;
 }
 
 /**
@@ -65,7 +66,7 @@ export function inNumbering(doc, mesh) {
  * document has one already (a layout loaded for another mesh keeps saying so).
  */
 export function toText(doc, mesh = null) {
-  const counts = mesh ? { mesh: numberedCounts(mesh) } : {};
+  const counts = mesh ? { mesh: numberedCounts(mesh.summary) } : {};
   const { format = 'quad-layout', version = 1, nodes = [], edges = [], ...rest } = { ...counts, ...inNumbering(doc, mesh) };
   const list = (items) => (items.length ? `[\n${items.map((x) => `  ${JSON.stringify(x)}`).join(',\n')}\n ]` : '[]');
   const lines = [

@@ -119,6 +119,8 @@ export class LayoutSession {
    */
   async apply(doc, { label = 'edit', record = true, save = true } = {}) {
     if (!this.mesh) return;
+    // Kept in the file's numbering (L.inNumbering), as undo and the autosave keep it.
+    doc = L.inNumbering(doc, this.mesh);
     if (record) this.history.push(doc, label);
     this.doc = doc;
     if (save) this.autosave();
@@ -150,7 +152,7 @@ export class LayoutSession {
       view = null;
       error = null;
       try {
-        view = await this.client.setLayout(JSON.stringify(L.inNumbering(doc, this.mesh)));
+        view = await this.client.setLayout(JSON.stringify(doc));
       } catch (err) {
         error = err;
       }

@@ -239,3 +239,36 @@ test('a core that lost the mesh: the session asks for it again and keeps the doc
   assert.equal(s.view.summary.faces, 2);
   assert.equal(s.history.undoLabel, 'add edge');
 });
+
+test("on a refined mesh the documents stay in the file's numbering: a node on an added vertex is its point", async () => {
+  globalThis.localStorage = new MemoryStorage();
+  // eight.obj has 634 triangles: the core refines it (mesh/refine.rs).
+  const session = new Session(new Uint8Array(readFileSync(new URL('../../../shared/meshes/eight.obj', import.meta.url))), 'eight.obj');
+  const mesh = { positions: session.positions(), triangles: session.triangles(), summary: session.summary() };
+  const client = { async setLayout(text) { return session.setLayout(text); } };
+  const file = L.numberedCounts(mesh.summary);
+  assert.deepEqual(file, { vertices: 315, triangles: 634 });
+  assert.ok(mesh.positions.length / 3 > file.vertices);
+  const s = new LayoutSession({ client, onUpdate: () => {} });
+  s.setMesh(mesh, 'eight.obj');
+  // Vertex 0 is the file's; the last one the refinement's.
+  const added = mesh.positions.length / 3 - 1;
+  let doc = L.addNode(L.emptyDoc(), 0)[0];
+  doc = L.addNode(doc, added)[0];
+  await s.apply(doc, { label: 'add nodes' });
+  assert.deepEqual(s.doc.nodes[0], { vertex: 0 });
+  assert.deepEqual(s.doc.nodes[1].point, Array.from(mesh.positions.subarray(3 * added, 3 * added + 3)));
+  assert.deepEqual(s.nodeVertex, [0, added]);
+  // The file says so too, with the file's counts; the core places it on the same vertices.
+  const text = s.text();
+  assert.deepEqual(JSON.parse(text).mesh, file);
+  // (Two nodes and no edge make no layout; the core's objection is that, not the vertices.)
+  assert.throws(() => session.setLayout(text), /no edge or boundary reaches this node/);
+  // The autosave is keyed by the file's counts and offers the same document on a reload.
+  const again = new LayoutSession({ client, onUpdate: () => {} });
+  again.setMesh(mesh, 'eight.obj');
+  assert.deepEqual(again.offer.doc, s.doc);
+  // The core refuses the added vertex by index, as a file naming it would be.
+  assert.throws(() => session.setLayout(JSON.stringify(doc)), /vertex \d+ does not exist \(the mesh has 315 vertices\)/);
+  session.free();
+});
