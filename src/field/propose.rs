@@ -177,7 +177,12 @@ const MISS_SEGMENTS: f64 = 2.0;
 /// ... the worst this many.
 const MISSED_CURVES: usize = 3;
 /// Bound on the removals of a sliver's side tried ([`refine`]; each writes the layout again).
-const MERGE_TRIES: usize = 12;
+/// 20 rather than 12 since coarse meshes are refined ([`crate::mesh::refine_coarse`]): over 26
+/// meshes (the shared ones and 19 of CGAL's) the mean angle deviation went 8.79 → 8.49°, the
+/// geometric-mean Hausdorff distance 1.64 → 1.54 % and the folded quads 93 → 90, for 2 % more
+/// irregular vertices (elephant_44k 7.33 → 6.85°, 138 → 144; dino 4.4 → 5.8 %). Before the
+/// refinement, CGAL's handle lost its layout to three faces at 20.
+const MERGE_TRIES: usize = 20;
 /// The most quads a proposal is judged by ([`judge`]): a remesh asked for millions would
 /// otherwise remesh each proposal at once at that size, three times the memory of the one run.
 const JUDGE_QUADS: f64 = 20_000.0;
