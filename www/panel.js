@@ -2,6 +2,8 @@
 // and the busy indicator. Each function only writes the DOM from the data it is given;
 // main.js decides when.
 
+import { numberedCounts } from './layout-doc.js';
+
 const $ = (id) => document.getElementById(id);
 const fmt = new Intl.NumberFormat('en-US');
 const num = (n) => fmt.format(n);
@@ -48,9 +50,12 @@ export function renderSummary(summary, name, repairs = {}) {
   $('file-name').title = name;
   $('summary-empty').hidden = true;
   const loops = summary.boundary_loops;
-  // The file's counts: the core works on a coarse mesh refined (a row below says so).
-  const { refinements, vertices_before_refinement: _v, triangles_before_refinement: _t, ...listed } = summary.repairs;
-  const file = refinements > 0 ? { vertices: _v, triangles: _t } : summary;
+  // The file's counts: the core works on a coarse mesh refined (a row below says so), which
+  // the repairs below need not list again.
+  const file = numberedCounts(summary);
+  const refinements = summary.repairs.refinements ?? 0;
+  const listed = { ...summary.repairs };
+  for (const key of ['refinements', 'vertices_before_refinement', 'triangles_before_refinement']) delete listed[key];
   const parts = [`${num(file.vertices)} vertices`, `${num(file.triangles)} triangles`,
     loops ? `${num(loops)} boundary loop${loops === 1 ? '' : 's'}` : 'closed', `genus ${num(summary.genus)}`];
   if (summary.components.length > 1) parts.push(`${num(summary.components.length)} components`);
