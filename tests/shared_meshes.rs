@@ -7,8 +7,8 @@
 mod common;
 
 use base64::Engine;
-use common::{run_cli, shared_mesh};
-use quadlay::io::{read_mesh, write_glb, write_obj, write_ply, LoadedMesh, Polygons};
+use common::{load_loaded as load, run_cli, shared_mesh};
+use quadlay::io::{read_mesh, write_glb, write_obj, write_ply, Polygons};
 use quadlay::summary::MeshSummary;
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -23,11 +23,6 @@ const MESHES: [(&str, usize, usize, i64, usize, usize); 7] = [
     ("bunny_28k.obj", 28088, 56172, 0, 0, 1),
     ("elephant_44k.obj", 44460, 88928, 3, 0, 1),
 ];
-
-fn load(name: &str) -> LoadedMesh {
-    let bytes = std::fs::read(shared_mesh(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
-    read_mesh(&bytes, name).unwrap_or_else(|e| panic!("{name}: {e}"))
-}
 
 /// (vertices, triangles, genus, boundary loops, components) of a summary.
 fn counts(s: &MeshSummary) -> (usize, usize, i64, usize, usize) {

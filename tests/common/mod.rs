@@ -32,18 +32,22 @@ use serde_json::{json, Value};
 use std::collections::{HashMap, HashSet};
 use std::time::Duration;
 
+/// A shared mesh read through the library, as the file gives it.
+pub fn load_loaded(name: &str) -> quadlay::io::LoadedMesh {
+    let bytes = std::fs::read(shared_mesh(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    quadlay::io::read_mesh(&bytes, name).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
 /// A shared mesh read through the library.
 pub fn load_mesh(name: &str) -> Mesh {
-    let bytes = std::fs::read(shared_mesh(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
-    quadlay::io::read_mesh(&bytes, name).unwrap_or_else(|e| panic!("{name}: {e}")).mesh
+    load_loaded(name).mesh
 }
 
 /// A shared mesh as the commands and the page work on it: refined where it is coarse
 /// (`LoadedMesh::refined`), with the counts of the file, whose vertex numbering layout files
 /// use.
 pub fn load_working_mesh(name: &str) -> (Mesh, quadlay::layout::MeshCounts) {
-    let bytes = std::fs::read(shared_mesh(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let loaded = quadlay::io::read_mesh(&bytes, name).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let loaded = load_loaded(name);
     let file = quadlay::layout::MeshCounts::of(&loaded.mesh);
     (loaded.refined().mesh, file)
 }
