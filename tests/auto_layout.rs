@@ -183,6 +183,56 @@ fn coarse_smooth_meshes_have_no_feature_lines() {
     }
 }
 
+/// A washer (a rectangle revolved: two flat rings and two cylinders) has four circular sharp
+/// rims without corners: nothing in the field starts a trace from them, and every face between
+/// them is a ring. Each rim gets four nodes and traces across both its sides, so the faces
+/// are quarters of the rings and cylinders, and the quads of these developable pieces are
+/// near square.
+#[test]
+fn a_washer_is_cut_across_its_rims() {
+    use quadlay::layout::curve::CurvePoint;
+    let mesh = common::washer(96, 4);
+    let p = propose_layout(&mesh, &LayoutOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let s = &p.surface;
+    let radius = |v: u32| mesh.position(v)[0].hypot(mesh.position(v)[1]);
+    let rims = [[2.0, 0.0], [2.0, 0.5], [1.0, 0.5], [1.0, 0.0]];
+    for [r, z] in rims {
+        let on_rim = |v: &&u32| (radius(**v) - r).abs() < 1e-9 && (mesh.position(**v)[2] - z).abs() < 1e-9;
+        let nodes = s.node_vertex.iter().filter(on_rim).count();
+        assert!(nodes >= 4, "the rim at r = {r}, z = {z} has {nodes} nodes");
+    }
+    // Every rim edge is on a tagged curve.
+    let tagged: std::collections::HashSet<(u32, u32)> = s
+        .curves
+        .iter()
+        .filter(|c| c.align)
+        .flat_map(|c| c.curve.points.windows(2).filter_map(|w| if let [CurvePoint::Vertex(a), CurvePoint::Vertex(b)] = w { Some((*a.min(b), *a.max(b))) } else { None }).collect::<Vec<_>>())
+        .collect();
+    let sharp = (0..mesh.n_edges()).filter(|&e| p.field.features.sharp[e]).count();
+    assert_eq!(sharp, 4 * 96);
+    assert_eq!(tagged.len(), sharp, "rim edges on tagged curves");
+    let area: f64 = triangle_areas(&mesh).iter().sum();
+    let h = (area / 2000.0).sqrt();
+    let mut param = ParamSession::new(&mesh, s, &ParamOptions::default()).unwrap();
+    for _ in 0..ParamOptions::default().iterations {
+        param.step().unwrap();
+    }
+    param.finish().unwrap();
+    let (quads, _) = extract(s, &param, &QuadOptions::with_edge_length(h)).unwrap();
+    let q = measure(&mesh, &quads);
+    println!(
+        "washer: {} faces, {} quads, Hausdorff {:.3} %, mean angle deviation {:.2}°, {} irregular, {} folded",
+        s.faces.len(),
+        q.faces,
+        100.0 * q.hausdorff,
+        q.angle_deviation_mean_deg,
+        q.irregular_vertices,
+        q.flipped_quads
+    );
+    assert_eq!(q.flipped_quads, 0);
+    assert!(q.angle_deviation_mean_deg < 3.0, "{:.2}°", q.angle_deviation_mean_deg);
+}
+
 /// A torus has a field without singularities, and its proposal has none either: every node
 /// is where four curves meet or a T-junction (three, one of them straight through).
 #[test]

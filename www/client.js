@@ -161,7 +161,7 @@ export class CoreClient {
    * The last step of proposals made apart (protocol.js FINISH_SUGGESTION); resolves to
    * { layout, judged }.
    * @param {string|null} text the kept proposal's layout, null where none was made
-   * @param {{hausdorff: number, score: number}|null} judged
+   * @param {{hausdorff: number, score: number, folded: number}|null} judged
    * @param {{patches?: number, featureAngle?: number}} options
    */
   finishSuggestion(text, judged, options) {

@@ -129,7 +129,7 @@ export const MSG = Object.freeze({
    *           made from, as FIELD gives it), seconds: number (in the worker),
    *           note: string | null — when the faces are far from the patches asked, why }
    *         with `tracing` also { tracings: number (how many there are; text and field are
-   *           null when `tracing` is not below it), judged: { hausdorff, score } | null,
+   *           null when `tracing` is not below it), judged: { hausdorff, score, folded } | null,
    *           curves: number, error: string | null (why this tracing made no layout; text
    *           and field are then null) }
    * On error: why no valid layout could be made, in words.
@@ -147,9 +147,9 @@ export const MSG = Object.freeze({
    * PICK_SUGGESTION kept, or the Voronoi cells' layout where that one is far from the surface
    * (or none was made) and the cells' is better; either, or a version of it with the corners of
    * all faces chosen together where its quads judge no worse.
-   * args:   { text: string | null (none was made), judged: { hausdorff, score } | null (as
+   * args:   { text: string | null (none was made), judged: { hausdorff, score, folded } | null (as
    *           SUGGEST answered them), options (as SUGGEST got them) }
-   * result: { layout: string — the layout file (format v1), judged: { hausdorff, score } | null }
+   * result: { layout: string — the layout file (format v1), judged: { hausdorff, score, folded } | null }
    * On error: the layout's or the field's, or why no layout could be made, in words.
    */
   FINISH_SUGGESTION: 'finish-suggestion',

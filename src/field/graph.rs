@@ -37,16 +37,15 @@ pub struct CurveGraph {
     /// The mesh's triangle areas and edge lengths, which [`super::faces::analyze`] sums every
     /// repair round: computed once, shared by the graph's clones.
     pub measures: Arc<MeshMeasures>,
-    /// The curves started from Voronoi cells ([`super::cells`]), whose many small faces three
+    /// The curves started from Voronoi cells ([`super::cells`]), whose many small faces two
     /// repairs treat otherwise than the traces' (over 26 meshes each made as many of the
     /// traces' layouts worse as better: eight 2.9 → 4.8 %, CGAL's camel and armadillo refused
     /// at 4000 quads): a face without a vertex inside merges with a neighbour across a side
     /// that leaves the two a disk ([`super::faces::Faces::merges_cleanly`]) before a shorter
-    /// one, which joined cells into rings too thin to cut again (CGAL's femur); a ring whose
-    /// boundary is one piece (pinched at a node, or joined by a slit) is cut by an arc that
-    /// leaves out where it meets itself ([`super::arcs::self_touching`]); and a face that the
-    /// written curves leave without a vertex inside has them follow their paths, then loses
-    /// one, instead of ending the attempt.
+    /// one, which joined cells into rings too thin to cut again (CGAL's femur); and a face
+    /// that the written curves leave without a vertex inside has them follow their paths, then
+    /// loses one, instead of ending the attempt. (A ring whose boundary is one piece is cut
+    /// where it meets itself for every graph now: `propose::cut_rings`.)
     pub from_cells: bool,
 }
 

@@ -29,6 +29,9 @@ pub struct Judged {
     /// quads folded (a fold is a defect the user sees whatever the rest: the issue asks for
     /// none).
     pub score: f64,
+    /// How many of them are folded.
+    #[serde(default)]
+    pub folded: usize,
 }
 
 /// A proposal whose quads miss the surface by more than this many times the closest
@@ -62,7 +65,7 @@ pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Ju
     check_reads_back(&quads).ok()?;
     let q = measure(mesh, &quads);
     let score = q.hausdorff * q.angle_deviation_mean_deg.max(1e-3) * (1.0 + q.flipped_quads as f64);
-    (score.is_finite() && q.hausdorff.is_finite()).then_some(Judged { hausdorff: q.hausdorff, score })
+    (score.is_finite() && q.hausdorff.is_finite()).then_some(Judged { hausdorff: q.hausdorff, score, folded: q.flipped_quads })
 }
 
 /// Scores this close to the best (relatively) are a tie: the remesh's noise, not the layout
@@ -87,7 +90,7 @@ mod tests {
     use super::*;
 
     fn judged(hausdorff: f64, score: f64) -> Option<Judged> {
-        Some(Judged { hausdorff, score })
+        Some(Judged { hausdorff, score, folded: 0 })
     }
 
     /// The lowest score wins among the proposals near the surface; one far from it loses

@@ -141,13 +141,34 @@ pub fn cube(n: u32) -> (Mesh, HashMap<[u32; 3], u32>) {
 pub fn torus(nu: u32, nv: u32) -> Mesh {
     use std::f64::consts::TAU;
     let (big, small) = (2.0, 0.7);
+    let profile: Vec<[f64; 2]> = (0..nv).map(|j| TAU * j as f64 / nv as f64).map(|v| [big + small * v.cos(), small * v.sin()]).collect();
+    revolved(nu, &profile)
+}
+
+/// A washer: the rectangle 1 ≤ r ≤ 2, 0 ≤ z ≤ 0.5 revolved about the z axis in `nu` steps,
+/// `m` steps up each cylinder and `2m` across each flat ring. Two flat rings and two
+/// cylinders, all developable, meet at four circular sharp rims that have no corner.
+pub fn washer(nu: u32, m: u32) -> Mesh {
+    let side = |from: [f64; 2], to: [f64; 2], steps: u32| {
+        (0..steps).map(move |k| {
+            let t = k as f64 / steps as f64;
+            [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])]
+        })
+    };
+    let (a, b, c, d) = ([2.0, 0.0], [2.0, 0.5], [1.0, 0.5], [1.0, 0.0]);
+    let profile: Vec<[f64; 2]> = side(a, b, m).chain(side(b, c, 2 * m)).chain(side(c, d, m)).chain(side(d, a, 2 * m)).collect();
+    revolved(nu, &profile)
+}
+
+/// The closed profile `profile` (points (r, z), counter-clockwise in the r–z plane) revolved
+/// about the z axis in `nu` steps; the vertex at steps (i, j) is `i * profile.len() + j`.
+pub fn revolved(nu: u32, profile: &[[f64; 2]]) -> Mesh {
+    use std::f64::consts::TAU;
+    let nv = profile.len() as u32;
     let mut positions = Vec::new();
     for i in 0..nu {
-        for j in 0..nv {
-            let (u, v) = (TAU * i as f64 / nu as f64, TAU * j as f64 / nv as f64);
-            let r = big + small * v.cos();
-            positions.push([r * u.cos(), r * u.sin(), small * v.sin()]);
-        }
+        let u = TAU * i as f64 / nu as f64;
+        positions.extend(profile.iter().map(|&[r, z]| [r * u.cos(), r * u.sin(), z]));
     }
     let id = |i: u32, j: u32| (i % nu) * nv + (j % nv);
     let triangles = grid_triangles(nu.max(nv), Diagonals::Alternating, &id, &|i, j| i >= nu || j >= nv);
