@@ -872,7 +872,7 @@ fn loop_launches(mesh: &Mesh, field: &CrossField, g: &mut CurveGraph, not_disk: 
     }
     let mut launches = Vec::new();
     for line in &field.features.lines {
-        let n = line.len() - 1;
+        let n = line.len().saturating_sub(1);
         let closed = n >= 4 && line[0] == line[n];
         if !closed || !line.iter().any(|&v| round[v as usize]) || line.iter().any(|&v| mesh.is_boundary_vertex(v)) {
             continue;
