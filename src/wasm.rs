@@ -336,7 +336,7 @@ impl Session {
     /// ([`Tracings::conclude`]): `text` and `judged` are the kept proposal's layout file and
     /// judged quads as it answered, or null where no tracing made one; `options` the same as
     /// it got. Returns `{ layout, judged }`: that layout, or the Voronoi cells' where it is far
-    /// from the surface and theirs is better, either with the corners of all faces chosen
+    /// from the surface or its judged quads fold, and theirs is better, either with the corners of all faces chosen
     /// together where its quads judge no worse. Throws the layout's error, or the field's, or
     /// why no layout could be made.
     #[wasm_bindgen(js_name = finishSuggestion)]

@@ -144,8 +144,8 @@ export const MSG = Object.freeze({
   PICK_SUGGESTION: 'pick-suggestion',
   /**
    * The last step of proposals made apart, as SUGGEST without `tracing` ends: the one
-   * PICK_SUGGESTION kept, or the Voronoi cells' layout where that one is far from the surface
-   * (or none was made) and the cells' is better; either, or a version of it with the corners of
+   * PICK_SUGGESTION kept, or the Voronoi cells' layout where that one is far from the surface,
+   * its judged quads fold (judged.folded > 0), or none was made, and the cells' is better; either, or a version of it with the corners of
    * all faces chosen together where its quads judge no worse.
    * args:   { text: string | null (none was made), judged: { hausdorff, score, folded } | null (as
    *           SUGGEST answered them), options (as SUGGEST got them) }
