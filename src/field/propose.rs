@@ -32,7 +32,8 @@
 //! 6. A short solve measures each face's distortion; the faces far more distorted than the
 //!    others get a cross of traces where it concentrates, and steps 4–5 run again, while the
 //!    layout's distortion goes down; then a long side of a sliver face goes while the
-//!    integer sample counts come nearer what the curves ask for (`refine`, [`sliver_sides`]).
+//!    integer sample counts come nearer what the curves ask for (`refine`, [`merge_sides`]),
+//!    faces smaller than a 2 × 2 grid of the quads judged first.
 //! 7. The proposal kept gets versions with the corners of all faces chosen together, with
 //!    fewer irregular vertices ([`super::corners`], [`with_corners_chosen`]); the judge keeps
 //!    one where its quads are no worse.
@@ -45,7 +46,7 @@ use super::graph::CurveGraph;
 use super::judge::{best, judge, Judged};
 use super::seamless::iso_lines;
 use super::separatrix::separatrix_directions;
-use super::slivers::sliver_sides;
+use super::slivers::{merge_sides, TINY_FACE_QUADS};
 use super::trace::{Motorcycles, TraceEnd, BLOCKED};
 use super::waypoints::sparse_waypoints;
 use super::features::Features;
@@ -591,7 +592,8 @@ fn finish(
 /// (bench): Hausdorff distance on fandisk 8.2 → 3.0 % of the diagonal, elephant 3.6 → 2.3 %,
 /// bunny_28k 2.9 → 2.3 %; nefertiti, eight and mushroom keep their first layout.
 ///
-/// Then slivers: a strip of quads keeps its width from face to face, so a strip one quad wide
+/// Then faces smaller than a 2 × 2 grid of the quads judged ([`merge_sides`]), and slivers: a
+/// strip of quads keeps its width from face to face, so a strip one quad wide
 /// in a sliver and seven where its traces part skews one of the two whatever the counts, and
 /// the integer counts end far from what the curves ask for (bunny_28k: a 1 × 11 face whose
 /// short sides asked for one segment got seven). A sliver's long side is removed where that
@@ -644,12 +646,13 @@ fn refine(
         score = s;
         best = better;
     }
-    // Slivers: remove a long side of one while the counts come nearer what the curves ask for.
+    // Tiny faces and slivers: remove a side of one while the counts come nearer what the
+    // curves ask for.
     let mut tries = MERGE_TRIES;
     while tries > 0 {
         // Then the sides of the faces whose counts miss most (after the slivers: tried first,
         // they took the budget from slivers that mattered more, chaotically).
-        let mut candidates = sliver_sides(mesh, &best.graph);
+        let mut candidates = merge_sides(mesh, &best.graph, TINY_FACE_QUADS * judged_length(mesh, options).powi(2));
         for s in missed_sides(&best.graph, &best.surface, &best.curve_miss) {
             if !candidates.contains(&s) {
                 candidates.push(s);
