@@ -46,7 +46,7 @@ use super::graph::CurveGraph;
 use super::judge::{best, judge, Judged};
 use super::seamless::iso_lines;
 use super::separatrix::separatrix_directions;
-use super::slivers::{merge_sides, TINY_FACE_QUADS};
+use super::slivers::merge_sides;
 use super::trace::{Motorcycles, TraceEnd, BLOCKED};
 use super::waypoints::sparse_waypoints;
 use super::features::Features;
@@ -652,7 +652,7 @@ fn refine(
     while tries > 0 {
         // Then the sides of the faces whose counts miss most (after the slivers: tried first,
         // they took the budget from slivers that mattered more, chaotically).
-        let mut candidates = merge_sides(mesh, &best.graph, TINY_FACE_QUADS * judged_length(mesh, options).powi(2));
+        let mut candidates = merge_sides(mesh, &best.graph, judged_length(mesh, options));
         for s in missed_sides(&best.graph, &best.surface, &best.curve_miss) {
             if !candidates.contains(&s) {
                 candidates.push(s);
