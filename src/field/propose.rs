@@ -647,12 +647,13 @@ fn refine(
         best = better;
     }
     // Tiny faces and slivers: remove a side of one while the counts come nearer what the
-    // curves ask for.
+    // curves ask for, tiny and narrow at the quads the proposal is judged by.
+    let quad = judged_length(mesh, options);
     let mut tries = MERGE_TRIES;
     while tries > 0 {
         // Then the sides of the faces whose counts miss most (after the slivers: tried first,
         // they took the budget from slivers that mattered more, chaotically).
-        let mut candidates = merge_sides(mesh, &best.graph, judged_length(mesh, options));
+        let mut candidates = merge_sides(mesh, &best.graph, quad);
         for s in missed_sides(&best.graph, &best.surface, &best.curve_miss) {
             if !candidates.contains(&s) {
                 candidates.push(s);
