@@ -18,15 +18,16 @@ use crate::mesh::topology::vertex_regions;
 use crate::mesh::{Mesh, NONE};
 use std::collections::BinaryHeap;
 
-/// The arc across face `face` of `faces` from its deepest vertex to the nearest vertices of
+/// The arc across face `face` of `faces` from its deepest vertex (`deepest`, as
+/// [`Faces::deepest`] gives them) to the nearest vertices of
 /// two different pieces of its boundary, leaving out the boundary vertices `excluded` (slits':
 /// the pieces are then the stretches between their sides); `None` if the face has no vertex
 /// inside or its boundary is one piece. (Starting the arc that parts a slit from the vertex
 /// farthest from the slit, or farthest from it and the other curves, made halves more alike
 /// on a plain ring but worse layouts on CGAL's meshes: bull failed, knot1 and dino missed
 /// their surfaces by 2–5 times more.)
-pub fn arc_across(mesh: &Mesh, g: &CurveGraph, faces: &Faces, face: u32, excluded: &[u32]) -> Option<Vec<u32>> {
-    let start = faces.faces[face as usize].deepest?;
+pub fn arc_across(mesh: &Mesh, g: &CurveGraph, faces: &Faces, deepest: &[Option<u32>], face: u32, excluded: &[u32]) -> Option<Vec<u32>> {
+    let start = deepest[face as usize]?;
     let piece = boundary_pieces(mesh, g, faces, face, excluded);
     let mut nearest: Vec<u32> = Vec::new();
     let (via, _) = shortest_paths(mesh, g, &[start], |v| {
@@ -225,7 +226,7 @@ mod tests {
         g.add_path(&square, false);
         let fa = analyze(&mesh, &g);
         let ring = fa.faces.iter().position(|f| f.euler == 0).expect("a ring") as u32;
-        let first = arc_across(&mesh, &g, &fa, ring, &[]).expect("an arc across the ring");
+        let first = arc_across(&mesh, &g, &fa, &fa.deepest(&mesh, &g), ring, &[]).expect("an arc across the ring");
         let on_border = |v: u32| mesh.is_boundary_vertex(v);
         assert_ne!(on_border(first[0]), on_border(first[first.len() - 1]), "{first:?} joins the two loops");
         assert!(first[1..first.len() - 1].iter().all(|&v| !g.taken(v)), "{first:?} runs through free vertices");
@@ -237,7 +238,7 @@ mod tests {
         let mut slit = first.clone();
         slit.sort_unstable();
         assert_eq!(touching, slit, "the ring's face meets itself along the slit");
-        let second = arc_across(&mesh, &g, &fa, ring, &first).expect("an arc parting the slit");
+        let second = arc_across(&mesh, &g, &fa, &fa.deepest(&mesh, &g), ring, &first).expect("an arc parting the slit");
         g.add_path(&second, false);
         let fa = analyze(&mesh, &g);
         assert!(fa.slits.is_empty());
@@ -257,7 +258,7 @@ mod tests {
         g.add_path(&meridian, false);
         let fa = analyze(&mesh, &g);
         assert_eq!(fa.faces.len(), 1);
-        assert!(arc_across(&mesh, &g, &fa, 0, &[]).is_none(), "one loop: no arc across");
+        assert!(arc_across(&mesh, &g, &fa, &fa.deepest(&mesh, &g), 0, &[]).is_none(), "one loop: no arc across");
         let arc = arc_round_handle(&mesh, &g, &fa, 0).expect("an arc round the handle");
         assert!(g.taken(arc[0]) && g.taken(arc[arc.len() - 1]));
         assert!(arc[1..arc.len() - 1].iter().all(|&v| !g.taken(v)));

@@ -20,8 +20,6 @@ pub struct FaceInfo {
     pub nodes: Vec<u32>,
     /// Its vertices on no curve, the boundary included.
     pub inside: usize,
-    /// The inside vertex farthest (in edges) from every curve, if any.
-    pub deepest: Option<u32>,
     /// The live segments on its boundary.
     pub segments: Vec<u32>,
 }
@@ -37,6 +35,41 @@ pub struct Faces {
 }
 
 impl Faces {
+    /// Per face: its inside vertex farthest (in edges) from every curve of `graph` (the one
+    /// these faces were cut by), if it has one. Apart from [`analyze`], which runs every
+    /// repair round: a walk over the whole mesh that only the repairs of faces that are not
+    /// disks, and the splits `--patches` asks for, need.
+    pub fn deepest(&self, mesh: &Mesh, graph: &CurveGraph) -> Vec<Option<u32>> {
+        let on_curve = |v: u32| graph.taken(v);
+        let mut dist = vec![u32::MAX; mesh.n_vertices()];
+        let mut queue: VecDeque<u32> = (0..mesh.n_vertices() as u32).filter(|&v| !mesh.is_isolated(v) && on_curve(v)).collect();
+        for &v in &queue {
+            dist[v as usize] = 0;
+        }
+        while let Some(v) = queue.pop_front() {
+            for u in mesh.neighbors(v) {
+                if dist[u as usize] == u32::MAX {
+                    dist[u as usize] = dist[v as usize] + 1;
+                    queue.push_back(u);
+                }
+            }
+        }
+        let mut best = vec![0u32; self.faces.len()];
+        let mut deepest = vec![None; self.faces.len()];
+        for v in 0..mesh.n_vertices() as u32 {
+            if mesh.is_isolated(v) || on_curve(v) {
+                continue;
+            }
+            let Some(f) = mesh.outgoing(v).map(|h| mesh.face(h)).find(|&f| f != NONE) else { continue };
+            let x = self.of_triangle[f as usize] as usize;
+            if dist[v as usize] > best[x] {
+                best[x] = dist[v as usize];
+                deepest[x] = Some(v);
+            }
+        }
+        deepest
+    }
+
     /// Whether removing segment `s` of `graph` merges the two faces beside it into a disk:
     /// they have no other segment and no node in common but its ends. Two faces that also
     /// meet along another segment would leave it a slit, and then a ring once the slit goes;
@@ -104,9 +137,6 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
         }
     }
     // Vertices: one per distinct face around it; nodes and inside vertices.
-    let on_curve = |v: u32| graph.taken(v);
-    let mut dist = vec![u32::MAX; mesh.n_vertices()];
-    let mut queue = VecDeque::new();
     let mut around = Vec::new();
     for v in 0..mesh.n_vertices() as u32 {
         if mesh.is_isolated(v) {
@@ -125,31 +155,10 @@ pub fn analyze(mesh: &Mesh, graph: &CurveGraph) -> Faces {
                 faces[x as usize].nodes.push(v);
             }
         }
-        if on_curve(v) {
-            dist[v as usize] = 0;
-            queue.push_back(v);
-        } else if let Some(&x) = around.first() {
-            faces[x as usize].inside += 1;
-        }
-    }
-    while let Some(v) = queue.pop_front() {
-        for u in mesh.neighbors(v) {
-            if dist[u as usize] == u32::MAX {
-                dist[u as usize] = dist[v as usize] + 1;
-                queue.push_back(u);
+        if !graph.taken(v) {
+            if let Some(&x) = around.first() {
+                faces[x as usize].inside += 1;
             }
-        }
-    }
-    let mut best = vec![0u32; faces.len()];
-    for v in 0..mesh.n_vertices() as u32 {
-        if mesh.is_isolated(v) || on_curve(v) {
-            continue;
-        }
-        let Some(f) = mesh.outgoing(v).map(|h| mesh.face(h)).find(|&f| f != NONE) else { continue };
-        let x = of_triangle[f as usize] as usize;
-        if dist[v as usize] > best[x] {
-            best[x] = dist[v as usize];
-            faces[x].deepest = Some(v);
         }
     }
     let slits = (0..graph.segments.len() as u32).filter(|&s| slit[s as usize]).collect();

@@ -1055,6 +1055,9 @@ fn repair(
     }
     let not_disk: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.euler != 1).collect();
     if !not_disk.is_empty() {
+        // Before `loop_launches`, which may add nodes.
+        let deepest = fa.deepest(mesh, g);
+        let not_disk_deepest = || fa.faces.iter().zip(&deepest).filter(|(f, _)| f.euler != 1).filter_map(|(_, d)| *d);
         let launches = loop_launches(mesh, field, g, &not_disk, tried.loop_length);
         if !launches.is_empty() {
             grow(mesh, field, g, diag, &launches);
@@ -1062,9 +1065,9 @@ fn repair(
         }
         // A seed whose traces all ended at once (the face is thin there) would only be tried
         // again: it is not.
-        let seeds: Vec<u32> = not_disk.iter().filter_map(|f| f.deepest).filter(|v| !tried.seeds.contains(v)).collect();
+        let seeds: Vec<u32> = not_disk_deepest().filter(|v| !tried.seeds.contains(v)).collect();
         let crosses_missed = seeds.is_empty() || *seeds_left == 0 || tried.ring_seeds >= RING_SEEDS;
-        if crosses_missed && cut_rings(mesh, g, &fa, tried) {
+        if crosses_missed && cut_rings(mesh, g, &fa, &deepest, tried) {
             return Ok(true);
         }
         if seeds.is_empty() {
@@ -1081,7 +1084,7 @@ fn repair(
         if *seeds_left == 0 {
             // Arcs found nothing to cut (CGAL's femur, genus 2: a face whose boundary meets
             // itself in many slits).
-            let at = not_disk.iter().find_map(|f| f.deepest).map(|v| mesh.position(v)).unwrap_or([f64::NAN; 3]);
+            let at = not_disk_deepest().next().map(|v| mesh.position(v)).unwrap_or([f64::NAN; 3]);
             return Err(format!(
                 "a face is still not a disk after arcs and {MAX_SEED_ROUNDS} rounds of crosses of traces cut it: it wraps round a \
                  handle or a part and its sides run into each other (near {:.6}, {:.6}, {:.6}); draw the layout there by hand",
@@ -1130,11 +1133,12 @@ fn repair(
     }
     if let Some(target) = patches {
         if fa.faces.len() < target {
-            let mut order: Vec<&FaceInfo> = fa.faces.iter().filter(|f| f.deepest.is_some()).collect();
-            order.sort_by(|a, b| b.area.total_cmp(&a.area));
+            let deepest = fa.deepest(mesh, g);
+            let mut order: Vec<(&FaceInfo, u32)> = fa.faces.iter().zip(&deepest).filter_map(|(f, d)| Some((f, (*d)?))).collect();
+            order.sort_by(|a, b| b.0.area.total_cmp(&a.0.area));
             // A cross of traces splits a face into about four.
             let count = (target - fa.faces.len()).div_ceil(3).max(1);
-            let seeds: Vec<u32> = order.iter().take(count).filter_map(|f| f.deepest).collect();
+            let seeds: Vec<u32> = order.iter().take(count).map(|&(_, v)| v).collect();
             if !seeds.is_empty() && *seeds_left > 0 {
                 *seeds_left -= 1;
                 let before = g.live().count();
@@ -1157,13 +1161,13 @@ fn repair(
 /// diagonal (CGAL's dino 5.8 → 2.1 %, diplodocus 5.9 → 1.2 %, couplingdown 5.2 → 2.8 %;
 /// armadillo 1.9 → 3.3 %), the mean angle deviation 7.90 → 8.50°, irregular vertices
 /// 1918 → 1751, folded quads 71 → 52.
-fn cut_rings(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, tried: &mut Tried) -> bool {
+fn cut_rings(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, deepest: &[Option<u32>], tried: &mut Tried) -> bool {
     let arcs: Vec<Vec<u32>> = (0..fa.faces.len() as u32)
         .filter(|&f| fa.faces[f as usize].euler != 1)
         .filter_map(|f| {
-            arc_across(mesh, g, fa, f, &[])
+            arc_across(mesh, g, fa, deepest, f, &[])
                 .or_else(|| arc_round_handle(mesh, g, fa, f))
-                .or_else(|| arc_across(mesh, g, fa, f, &self_touching(mesh, fa, f)))
+                .or_else(|| arc_across(mesh, g, fa, deepest, f, &self_touching(mesh, fa, f)))
         })
         .collect();
     for arc in &arcs {
@@ -1184,7 +1188,7 @@ fn part_arc_slits(mesh: &Mesh, g: &mut CurveGraph, fa: &Faces, tried: &mut Tried
     let Some(face) = fa.faces.iter().position(|f| f.segments.contains(&s)) else { return false };
     let slits = fa.faces[face].segments.iter().filter(|s| fa.slits.contains(s) && ours(s));
     let sides: Vec<u32> = slits.flat_map(|&s| g.segments[s as usize].path.iter().copied()).collect();
-    let Some(arc) = arc_across(mesh, g, fa, face as u32, &sides) else { return false };
+    let Some(arc) = arc_across(mesh, g, fa, &fa.deepest(mesh, g), face as u32, &sides) else { return false };
     if tried.parted.contains(&arc) {
         return false;
     }
