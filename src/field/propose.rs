@@ -613,11 +613,12 @@ fn refine(
     first: Written,
     seeds_left: usize,
 ) -> (Layout, SurfaceLayout) {
-    let Written { layout, surface, param, count_error, curve_miss } = first;
+    let Written { layout, surface, param, count_error, curve_miss, count_freedom } = first;
     let Some(mut score) = param.and_then(|p| solved_distortion(p, &surface)) else { return (layout, surface) };
     let mut best = Kept { graph: g, layout, surface, count_error, curve_miss };
     let h = default_edge_length(mesh);
-    for _ in 0..REFINES {
+    let share = tries_share(count_freedom);
+    for _ in 0..(REFINES as f64 * share) as usize {
         let surface = &best.surface;
         let mut bad = faces_above(&score.face_area, &score.measured, h, SPLIT_RATIO, SPLIT_FLOOR);
         let weight = |f: usize| score.face_area[f] * score.measured.length_error[f];
@@ -633,7 +634,7 @@ fn refine(
             let mut trial = best.graph.clone();
             seed(mesh, field, &mut trial, seeds, diag);
             let mut left = seeds_left;
-            let Written { layout, surface, param, count_error, curve_miss } = finish(mesh, field, &mut trial, options, diag, &mut left, Pass::Build).ok()?;
+            let Written { layout, surface, param, count_error, curve_miss, .. } = finish(mesh, field, &mut trial, options, diag, &mut left, Pass::Build).ok()?;
             let s = solved_distortion(param?, &surface).filter(|s| s.mean < score.mean)?;
             Some((s, Kept { graph: trial, layout, surface, count_error, curve_miss }))
         };
@@ -649,7 +650,7 @@ fn refine(
     // Tiny faces and slivers: remove a side of one while the counts come nearer what the
     // curves ask for, tiny and narrow at the quads the proposal is judged by.
     let quad = judged_length(mesh, options);
-    let mut tries = MERGE_TRIES;
+    let mut tries = (MERGE_TRIES as f64 * share) as usize;
     while tries > 0 {
         // Then the sides of the faces whose counts miss most (after the slivers: tried first,
         // they took the budget from slivers that mattered more, chaotically).
@@ -682,6 +683,20 @@ fn with_corners_together(mesh: &Mesh, field: &CrossField, placed: &Placement, la
     let unpatched = Layout { patches: Vec::new(), ..layout.clone() };
     let w = write_patches(mesh, field, placed, unpatched, budget, false).ok()?;
     (w.layout.patches != layout.patches).then_some((w.layout, w.surface))
+}
+
+/// Counts with more degrees of freedom than this cost [`refine`] fewer tries...
+const TRIES_FREEDOM: f64 = 400.0;
+
+/// ... in proportion to the cube of the freedom: what one try costs. Each try writes the
+/// layout again, and the integer counts of a layout with many T-vertices are a dense
+/// quadratic program as large as their freedom ([`crate::quad::counts`]). The shared meshes'
+/// layouts and CGAL's have at most 330 (man, 483 singularities); CGAL's elephant-with-holes,
+/// whose 106 holes get four nodes each, about 1000: each try took 2–6 s, and `quadlay
+/// layout` had not ended after 18 minutes; with one merge and no split it takes 4 minutes
+/// (the repairs' own writes, each of those solves).
+fn tries_share(count_freedom: usize) -> f64 {
+    (TRIES_FREEDOM / count_freedom.max(1) as f64).powi(3).min(1.0)
 }
 
 /// The first of `items` for which `f` gives something, and how many items that took (all of
@@ -1372,6 +1387,8 @@ struct Written {
     count_error: f64,
     /// Per layout curve: the most its count differs from a face's wish for it, in segments.
     curve_miss: Vec<f64>,
+    /// The counts' degrees of freedom: their unknowns less their equations.
+    count_freedom: usize,
 }
 
 /// The layout file of the graph, checked by the layout reader and the sample-count equations.
@@ -1468,6 +1485,7 @@ fn write_patches(mesh: &Mesh, field: &CrossField, placed: &Placement, mut layout
             return Err(Rejected::Counts(e, Box::new(surface)));
         }
     };
+    let count_freedom = problem.desired.len().saturating_sub(problem.equations.len());
     let wished: Vec<f64> = problem.desired.iter().map(|d| d.max(1.0)).collect();
     let count_error = n.iter().zip(&wished).map(|(&n, d)| (n as f64 - d).abs()).sum::<f64>() / wished.iter().sum::<f64>();
     let mut curve_miss = vec![0.0f64; surface.curves.len()];
@@ -1475,11 +1493,11 @@ fn write_patches(mesh: &Mesh, field: &CrossField, placed: &Placement, mut layout
         curve_miss[c as usize] = curve_miss[c as usize].max((n as f64 - d).abs());
     }
     if !set_up {
-        return Ok(Written { layout, surface, param: None, count_error, curve_miss });
+        return Ok(Written { layout, surface, param: None, count_error, curve_miss, count_freedom });
     }
     // The parameterization's own checks of the cut mesh.
     match ParamSession::new(mesh, &surface, &ParamOptions::default()) {
-        Ok(param) => Ok(Written { layout, surface, param: Some(param), count_error, curve_miss }),
+        Ok(param) => Ok(Written { layout, surface, param: Some(param), count_error, curve_miss, count_freedom }),
         Err(e) => {
             let v = match e {
                 ParamError::NotNeighbours { vertex, .. } => vertex,
@@ -1562,8 +1580,21 @@ mod tests {
         assert_eq!(corners(&read), corners(&surface_together));
     }
 
-    /// The tries in pairs give what trying one by one gives: the first that helps, and how
-    /// many tries that took.
+    /// Layouts whose counts have the freedom of the shared meshes' and CGAL's (up to 330) get
+    /// every try; one with 1000 (a scan with 106 holes) one merge and no split: a try there
+    /// costs (1000 / 400)³ ≈ 16 times one at 400.
+    #[test]
+    fn large_counts_cost_refine_its_tries() {
+        for freedom in [0, 1, 90, 330, 400] {
+            assert_eq!(tries_share(freedom), 1.0, "{freedom}");
+        }
+        let share = tries_share(1000);
+        assert!((share - 0.064).abs() < 1e-12, "{share}");
+        assert_eq!(((MERGE_TRIES as f64 * share) as usize, (REFINES as f64 * share) as usize), (1, 0));
+        assert!(tries_share(2000) < tries_share(1000));
+    }
+
+    /// The tries give the first that helps, and how many tries that took.
     #[test]
     fn first_some_is_the_first_in_order_with_the_tries_counted_one_by_one() {
         let even = |&x: &u32| (x % 2 == 0).then_some(10 * x);
