@@ -87,7 +87,10 @@ impl<'a> DualQp<'a> {
                 }
             }
         }
-        let (j, z) = if k > BLOCKED_FROM { blocked(&h, &g, k)? } else { unblocked(h, &g, k)? };
+        let j = if k > BLOCKED_FROM { blocked(&h, k)? } else { unblocked(h, k)? };
+        // z = H⁻¹ g = J Jᵀ g.
+        let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[c * k + i] * g[i]).sum()).collect();
+        let z = (0..k).map(|i| (0..k).map(|c| j[c * k + i] * jt_g[c]).sum()).collect();
         Some(DualQp { rows, k, j, r: Vec::new(), active: Vec::new(), u: Vec::new(), z, fixed: vec![Fixing::Free; k], steps: 0 })
     }
 
@@ -366,9 +369,9 @@ fn dot(row: &Row, z: &[f64]) -> f64 {
 /// and no worse in all).
 const BLOCKED_FROM: usize = 400;
 
-/// `J = L⁻ᵀ` (column-major) with `H = L Lᵀ` (`h` row-major, `k × k`), and `z = H⁻¹ g`, by
-/// plain loops; `None` if `H` is not positive definite.
-fn unblocked(mut h: Vec<f64>, g: &[f64], k: usize) -> Option<(Vec<f64>, Vec<f64>)> {
+/// `J = L⁻ᵀ` (column-major) with `H = L Lᵀ` (`h` row-major, `k × k`), by plain loops; `None`
+/// if `H` is not positive definite.
+fn unblocked(mut h: Vec<f64>, k: usize) -> Option<Vec<f64>> {
     // H = L Lᵀ, L lower triangular, in place.
     for c in 0..k {
         let diag = h[c * k + c] - (0..c).map(|m| h[c * k + m] * h[c * k + m]).sum::<f64>();
@@ -390,57 +393,48 @@ fn unblocked(mut h: Vec<f64>, g: &[f64], k: usize) -> Option<(Vec<f64>, Vec<f64>
             j[c * k + i] = s / h[i * k + i];
         }
     }
-    // z = H⁻¹ g = J Jᵀ g.
-    let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[i * k + c] * g[i]).sum()).collect();
-    let z = (0..k).map(|i| (0..k).map(|c| j[i * k + c] * jt_g[c]).sum()).collect();
     // Row-major so far; stored column-major.
-    let j = (0..k * k).map(|x| j[(x % k) * k + x / k]).collect();
-    Some((j, z))
+    Some((0..k * k).map(|x| j[(x % k) * k + x / k]).collect())
 }
 
 /// [`unblocked`] with faer's dense Cholesky and triangular solve.
-fn blocked(h: &[f64], g: &[f64], k: usize) -> Option<(Vec<f64>, Vec<f64>)> {
+fn blocked(h: &[f64], k: usize) -> Option<Vec<f64>> {
     let h = faer::Mat::<f64>::from_fn(k, k, |a, b| h[a * k + b]);
     let llt = h.llt(faer::Side::Lower).ok()?;
     let mut inverse = faer::Mat::<f64>::identity(k, k);
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(llt.L(), inverse.as_mut(), faer::Par::Seq);
     // Column c of J = L⁻ᵀ is row c of L⁻¹.
     let j: Vec<f64> = (0..k * k).map(|x| inverse[(x / k, x % k)]).collect();
-    if !j.iter().all(|x| x.is_finite()) {
-        return None;
-    }
-    let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[c * k + i] * g[i]).sum()).collect();
-    let mut z = vec![0.0; k];
-    for (c, &w) in jt_g.iter().enumerate() {
-        for (zi, &jic) in z.iter_mut().zip(&j[c * k..(c + 1) * k]) {
-            *zi += jic * w;
-        }
-    }
-    Some((j, z))
+    j.iter().all(|x| x.is_finite()).then_some(j)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Both factorizations give the same `J` and `z` (to rounding) on a positive definite
-    /// `H` (a chain: 3 on the diagonal, −1 beside it), and refuse one that is not.
+    /// Both factorizations give the same `J` (to rounding) on a positive definite `H` (a
+    /// chain: 3 on the diagonal, −1 beside it), `J Jᵀ = H⁻¹`, and both refuse one that is not.
     #[test]
     fn blocked_and_unblocked_factor_alike() {
         let k: usize = 60;
         let h: Vec<f64> = (0..k * k).map(|x| match (x / k).abs_diff(x % k) { 0 => 3.0, 1 => -1.0, _ => 0.0 }).collect();
         let g: Vec<f64> = (0..k).map(|i| (i % 7) as f64 - 2.0).collect();
-        let (j1, z1) = unblocked(h.clone(), &g, k).unwrap();
-        let (j2, z2) = blocked(&h, &g, k).unwrap();
+        let j1 = unblocked(h.clone(), k).unwrap();
+        let j2 = blocked(&h, k).unwrap();
         assert!(j1.iter().zip(&j2).all(|(a, b)| (a - b).abs() < 1e-12));
+        // z = J Jᵀ g (J column-major) solves H z = g, from either.
+        let z_of = |j: &[f64]| -> Vec<f64> {
+            let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[c * k + i] * g[i]).sum()).collect();
+            (0..k).map(|i| (0..k).map(|c| j[c * k + i] * jt_g[c]).sum()).collect()
+        };
+        let (z1, z2) = (z_of(&j1), z_of(&j2));
         assert!(z1.iter().zip(&z2).all(|(a, b)| (a - b).abs() < 1e-12));
-        // H z = g.
         for i in 0..k {
             let hz: f64 = (0..k).map(|c| h[i * k + c] * z2[c]).sum();
             assert!((hz - g[i]).abs() < 1e-10, "row {i}: {hz} against {}", g[i]);
         }
         let singular: Vec<f64> = (0..k * k).map(|x| if x / k == x % k && x / k != 5 { 1.0 } else { 0.0 }).collect();
-        assert!(unblocked(singular.clone(), &g, k).is_none() && blocked(&singular, &g, k).is_none());
+        assert!(unblocked(singular.clone(), k).is_none() && blocked(&singular, k).is_none());
     }
 
     /// A QP larger than [`BLOCKED_FROM`] (one piece per coordinate, and one piece of two)
