@@ -17,6 +17,7 @@ use crate::layout::SurfaceLayout;
 use crate::mesh::Mesh;
 use crate::param::{ParamOptions, ParamSession};
 use crate::quad::quality::measure;
+use crate::quad::density::edge_length_for_quads;
 use crate::quad::{check_reads_back, extract, QuadOptions};
 
 /// A proposal's quads as the judge measures them.
@@ -27,7 +28,7 @@ pub struct Judged {
     /// How far they are from what the issue asks (lower is better): the Hausdorff distance
     /// times their mean corner-angle deviation in degrees, times one more than the number of
     /// quads folded (a fold is a defect the user sees whatever the rest: the issue asks for
-    /// none).
+    /// none), times how many times too many quads it has ([`COUNT_SLACK`]).
     pub score: f64,
     /// How many of them are folded.
     #[serde(default)]
@@ -48,6 +49,12 @@ const HAUSDORFF_SLACK: f64 = 2.0;
 /// by more.
 const RELAX_ROUNDS: usize = 3;
 
+/// Quads beyond this share more than the surface's area asks for (a layout whose curves and
+/// T-vertices force a segment on every piece, however short) multiply the score by how many
+/// times too many there are: a layout with twice the quads misses the surface by about half
+/// as much, and is not what the user asked for.
+const COUNT_SLACK: f64 = 0.15;
+
 /// Global steps toward rectangles of the quads judged ([`crate::quad::rectify`]): none.
 const RECTIFY_STEPS: usize = 0;
 
@@ -64,7 +71,9 @@ pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Ju
     let (quads, _) = extract(layout, &param, &quad_options).ok()?;
     check_reads_back(&quads).ok()?;
     let q = measure(mesh, &quads);
-    let score = q.hausdorff * q.angle_deviation_mean_deg.max(1e-3) * (1.0 + q.flipped_quads as f64);
+    let asked = edge_length_for_quads(mesh, 1.0).powi(2) / (edge_length * edge_length);
+    let over = (q.faces as f64 / ((1.0 + COUNT_SLACK) * asked)).max(1.0);
+    let score = q.hausdorff * q.angle_deviation_mean_deg.max(1e-3) * (1.0 + q.flipped_quads as f64) * over;
     (score.is_finite() && q.hausdorff.is_finite()).then_some(Judged { hausdorff: q.hausdorff, score, folded: q.flipped_quads })
 }
 
