@@ -142,6 +142,7 @@ struct SuggestOptions {
     patches: Option<f64>,
     feature_angle: Option<f64>,
     tracing: Option<f64>,
+    quads: Option<f64>,
 }
 
 /// An options object from JS. Its keys are checked first: serde-wasm-bindgen reads only the
@@ -281,8 +282,9 @@ impl Session {
     }
 
     /// Proposes a coarse quad layout from the surface's cross field (`quadlay layout`).
-    /// `options`: `{ patches?: number, featureAngle?: number, tracing?: number }` (about how
-    /// many faces; sharp edges bend more than this many degrees, default 35). Returns
+    /// `options`: `{ patches?: number, featureAngle?: number, tracing?: number, quads?: number }`
+    /// (about how many faces; sharp edges bend more than this many degrees, default 35; the
+    /// quads it will be remeshed with, where known: the proposals are judged at them). Returns
     /// `{ layout, field, note }`: `layout` the layout file's text (format v1; place it with
     /// `setLayout`), `field` the cross field for drawing: `directions` (one unit arm per
     /// vertex, xyz), and `singularityPositions` (xyz) with `singularityValences`. Throws why
@@ -295,7 +297,7 @@ impl Session {
     /// own, at once.
     #[wasm_bindgen(js_name = suggestLayout)]
     pub fn suggest_layout(&mut self, options: JsValue) -> Result<JsValue, Thrown> {
-        let (opts, tracing) = layout_options(options, "suggestLayout", &["patches", "featureAngle", "tracing"])?;
+        let (opts, tracing) = layout_options(options, "suggestLayout", &["patches", "featureAngle", "tracing", "quads"], &self.loaded.mesh)?;
         let mesh = &self.loaded.mesh;
         let failed = |e: ProposeError| Thrown::new("no_layout_proposed", e.to_string());
         #[derive(Serialize, Default)]
@@ -341,7 +343,7 @@ impl Session {
     /// why no layout could be made.
     #[wasm_bindgen(js_name = finishSuggestion)]
     pub fn finish_suggestion(&mut self, text: Option<String>, judged: JsValue, options: JsValue) -> Result<JsValue, Thrown> {
-        let (opts, _) = layout_options(options, "finishSuggestion", &["patches", "featureAngle"])?;
+        let (opts, _) = layout_options(options, "finishSuggestion", &["patches", "featureAngle", "quads"], &self.loaded.mesh)?;
         let judged: Option<Judged> = serde_wasm_bindgen::from_value(judged)
             .map_err(|e| Thrown::new("bad_options", format!("finishSuggestion: judged must be {{ hausdorff, score }} or null: {e}")))?;
         let mesh = &self.loaded.mesh;
@@ -370,7 +372,7 @@ impl Session {
     /// `field` it returns (no layout is made). Throws if the field's solve fails.
     #[wasm_bindgen(js_name = crossField)]
     pub fn cross_field(&self, options: JsValue) -> Result<JsValue, Thrown> {
-        let (opts, _) = layout_options(options, "crossField", &["featureAngle"])?;
+        let (opts, _) = layout_options(options, "crossField", &["featureAngle"], &self.loaded.mesh)?;
         let mesh = &self.loaded.mesh;
         let field = compute_field(mesh, opts.feature_angle)
             .map_err(|e| Thrown::new(e.kind(), ProposeError::Field(e).to_string()))?;
@@ -644,7 +646,7 @@ impl Session {
 
 /// The options of [`Session::suggest_layout`] and [`Session::cross_field`], checked: only the
 /// `known` keys, `patches` a whole number from 1 to 100000, `featureAngle` in (0°, 180°).
-fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<(LayoutOptions, Option<usize>), Thrown> {
+fn layout_options(options: JsValue, what: &str, known: &[&str], mesh: &Mesh) -> Result<(LayoutOptions, Option<usize>), Thrown> {
     let o: SuggestOptions = if options.is_undefined() || options.is_null() {
         SuggestOptions::default()
     } else {
@@ -662,6 +664,14 @@ fn layout_options(options: JsValue, what: &str, known: &[&str]) -> Result<(Layou
             return Err(Thrown::new("bad_options", format!("{what}: featureAngle must be between 0 and 180 degrees, not {d}")));
         }
         opts.feature_angle = d;
+    }
+    // The quads the layout will be remeshed with, where the user gave them: the proposals are
+    // judged by their quads there, as `quadlay remesh --layout auto --quads N` judges them.
+    if let Some(n) = o.quads {
+        if !(n >= 1.0 && n.is_finite()) {
+            return Err(Thrown::new("bad_options", format!("{what}: quads must be a number of quads, 1 or more, not {n}")));
+        }
+        opts.edge_length = Some(edge_length_for_quads(mesh, n));
     }
     let tracing = match o.tracing {
         Some(k) if !(0.0..=1000.0).contains(&k) || k.fract() != 0.0 => {

@@ -82,7 +82,7 @@ quadlay.editor = editor?.api ?? null;
 if (solver && editor) solver.onResult = (report) => editor.setGuidance(report?.faces ?? null);
 // The automatic layout card (suggest.js) goes under the Solve card (hidden until a layout is
 // placed), so the Solve button keeps its place in the window.
-if (editor) new Suggester({ client, editor, viewer, quadlay, after: $('solve-card') });
+if (editor) new Suggester({ client, editor, viewer, quadlay, after: $('solve-card'), askedQuads: () => solver?.askedQuads() ?? null });
 /** Counts loads, so a load overtaken by a newer one does not overwrite it. */
 let latest = 0;
 

@@ -122,6 +122,9 @@ export const MSG = Object.freeze({
    * The worker's placed layout is not changed: the page places the proposal as an edit.
    * args:   { options: { patches?: number — about this many faces (absent: as the mesh gives
    *                      them), featureAngle?: number (degrees, default 35),
+   *                      quads?: number — the quads it will be remeshed with, where the
+   *                      user asked for a count (the proposals are judged by their quads
+   *                      there, as `quadlay remesh --layout auto --quads N` judges them),
    *                      tracing?: number — only the proposal along this tracing (the core
    *                      makes one per tracing, 3 or 1, and keeps the best), for
    *                      PICK_SUGGESTION: workers make them at once } }

@@ -180,6 +180,17 @@ export class Solver {
   }
 
   /**
+   * The quads the user asked for: the count typed, else that of the edge length typed (area /
+   * edge², as the core computes it); null where neither was typed (the default density).
+   */
+  askedQuads() {
+    const quads = this.quadCount();
+    if (quads) return quads;
+    const typed = Number($('opt-edge').value);
+    return typed > 0 && this.area > 0 ? Math.max(1, Math.round(this.area / (typed * typed))) : null;
+  }
+
+  /**
    * The target edge length: the field's, else that of the quad count (√(area / quads), as
    * the core computes it), else 1/40 of the bounding-box diagonal.
    */

@@ -54,9 +54,12 @@ export class Suggester {
    * @param {import('./viewer.js').Viewer} o.viewer
    * @param {object} o.quadlay `window.quadlay`
    * @param {HTMLElement} o.after the panel card this card goes after
+   * @param {() => number|null} [o.askedQuads] the quads the Solve card asks for, or null
    */
-  constructor({ client, editor, viewer, quadlay, after }) {
+  constructor({ client, editor, viewer, quadlay, after, askedQuads = () => null }) {
     this.client = client;
+    /** The quads the user asked for in the Solve card, or null (the proposals are judged at them). */
+    this.askedQuads = askedQuads;
     this.editor = editor;
     this.quadlay = quadlay;
     this.field = new FieldView(viewer, document.getElementById('viewport'));
@@ -125,13 +128,19 @@ export class Suggester {
     Object.assign(this, { card, patches, angle, runButton: run, cancelButton: cancel, progress, message, fieldToggle });
   }
 
-  /** The card's options as the core takes them. */
+  /**
+   * The card's options as the core takes them, with the quads the Solve card asks for where
+   * the user typed them (the core judges its proposals by their quads at that count, as
+   * `quadlay remesh --layout auto --quads N` does).
+   */
   options() {
     const n = Math.round(Number(this.patches.value));
     const a = Number(this.angle.value);
+    const quads = this.askedQuads();
     return {
       ...(this.patches.value !== '' && n >= 1 ? { patches: n } : {}),
       featureAngle: this.angle.value !== '' && a > 0 && a < 180 ? a : DEFAULT_FEATURE_ANGLE,
+      ...(quads >= 1 ? { quads } : {}),
     };
   }
 

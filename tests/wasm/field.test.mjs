@@ -94,6 +94,9 @@ test('bad field and layout options are readable errors', () => {
     assert.throws(() => s.suggestLayout({ patches: 2.5 }), /patches must be a whole number/);
     assert.throws(() => s.suggestLayout({ faces: 12 }), /unknown option `faces`/);
     assert.throws(() => s.suggestLayout({ tracing: -1 }), /tracing must be a whole number/);
+    assert.throws(() => s.suggestLayout({ quads: 0 }), /quads must be a number of quads, 1 or more/);
+    assert.throws(() => s.suggestLayout({ quads: NaN }), /quads must be a number of quads/);
+    assert.throws(() => s.crossField({ quads: 300 }), /unknown option `quads`/);
     assert.throws(() => pickSuggestion([{ judged: null }]), /candidates must be a list of/);
   } finally {
     s.free();
@@ -145,6 +148,9 @@ test('proposals made apart and picked are the one suggestion', () => {
     const whole = s.suggestLayout({});
     const first = s.suggestLayout({ tracing: 0 });
     assert.ok(first.tracings >= 1 && first.judged.hausdorff > 0 && first.curves > 0);
+    // Asked for 300 quads, the proposal is judged by 300 quads: far coarser, farther off.
+    const coarse = s.suggestLayout({ tracing: 0, quads: 300 });
+    assert.ok(coarse.judged.hausdorff > 2 * first.judged.hausdorff, `${coarse.judged.hausdorff} vs ${first.judged.hausdorff}`);
     const made = [first];
     for (let k = 1; k < first.tracings; k++) made.push(s.suggestLayout({ tracing: k }));
     const beyond = s.suggestLayout({ tracing: first.tracings });
