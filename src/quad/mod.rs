@@ -377,9 +377,9 @@ const RETRY_SCALES: [f64; 14] = [0.98, 1.02, 0.96, 1.04, 0.94, 1.06, 0.92, 1.08,
 /// Neighbours of a failed step of [`counts_for_quads`] tried ([`RETRY_SCALES`], 2 and 4 %
 /// either side): failures are isolated edge lengths, not a bound. CGAL's camel with its
 /// automatic layout at --quads 4000 failed at 1.28 times the edge length asked, and the search
-/// closed in on 1.27 (5399 quads, 35 % over); past the failure the counts hold again (4256
-/// quads at 4000 asked, 3523 at 3000 where there were 4235). A few count solves more, only
-/// where a step fails.
+/// closed in on 1.27 (5399 quads, 35 % over); past the failure the counts hold again (with 6
+/// [`RESCALES`], 4256 quads at 4000 asked, 3523 at 3000 where there were 4235). A few count
+/// solves more, only where a step fails.
 const NEAR_RETRIES: usize = 4;
 
 /// [`counts_at`] at `h`, or where that fails at the first of [`RETRY_SCALES`] where it holds
