@@ -645,7 +645,8 @@ impl Session {
 }
 
 /// The options of [`Session::suggest_layout`] and [`Session::cross_field`], checked: only the
-/// `known` keys, `patches` a whole number from 1 to 100000, `featureAngle` in (0°, 180°).
+/// `known` keys, `patches` a whole number from 1 to 100000, `featureAngle` in (0°, 180°),
+/// `quads` 1 or more (the edge length of that many quads on `mesh`).
 fn layout_options(options: JsValue, what: &str, known: &[&str], mesh: &Mesh) -> Result<(LayoutOptions, Option<usize>), Thrown> {
     let o: SuggestOptions = if options.is_undefined() || options.is_null() {
         SuggestOptions::default()

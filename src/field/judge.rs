@@ -16,8 +16,8 @@
 use crate::layout::SurfaceLayout;
 use crate::mesh::Mesh;
 use crate::param::{ParamOptions, ParamSession};
-use crate::quad::quality::measure;
 use crate::quad::density::edge_length_for_quads;
+use crate::quad::quality::measure;
 use crate::quad::{check_reads_back, extract, QuadOptions};
 
 /// A proposal's quads as the judge measures them.
