@@ -184,10 +184,19 @@ export class Solver {
    * edge², as the core computes it); null where neither was typed (the default density).
    */
   askedQuads() {
-    const quads = this.quadCount();
-    if (quads) return quads;
+    const edge = this.typedEdge();
+    return this.quadCount() ?? (edge && this.area > 0 ? Math.max(1, this.quadsAt(edge)) : null);
+  }
+
+  /** The target edge length typed in the card, or null. */
+  typedEdge() {
     const typed = Number($('opt-edge').value);
-    return typed > 0 && this.area > 0 ? Math.max(1, Math.round(this.area / (typed * typed))) : null;
+    return typed > 0 ? typed : null;
+  }
+
+  /** About how many quads of edge length `edge` the shown mesh gets (area / edge²). */
+  quadsAt(edge) {
+    return Math.round(this.area / (edge * edge));
   }
 
   /**
@@ -195,8 +204,8 @@ export class Solver {
    * the core computes it), else 1/40 of the bounding-box diagonal.
    */
   edgeLength() {
-    const typed = Number($('opt-edge').value);
-    if (typed > 0) return typed;
+    const typed = this.typedEdge();
+    if (typed) return typed;
     const quads = this.quadCount();
     if (quads && this.area > 0) return Math.sqrt(this.area / quads);
     return this.defaultEdge();
@@ -212,7 +221,7 @@ export class Solver {
   setPlaceholders() {
     const edge = this.edgeLength();
     $('opt-edge').placeholder = this.quadlay.summary ? short(edge) : '';
-    $('opt-quads').placeholder = this.area > 0 ? Math.round(this.area / (edge * edge)).toLocaleString('en-US') : '';
+    $('opt-quads').placeholder = this.area > 0 ? this.quadsAt(edge).toLocaleString('en-US') : '';
   }
 
   defaultEdge() {

@@ -88,9 +88,7 @@ impl<'a> DualQp<'a> {
             }
         }
         let j = if k > BLOCKED_FROM { blocked(&h, k)? } else { unblocked(h, k)? };
-        // z = H⁻¹ g = J Jᵀ g.
-        let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[c * k + i] * g[i]).sum()).collect();
-        let z = (0..k).map(|i| (0..k).map(|c| j[c * k + i] * jt_g[c]).sum()).collect();
+        let z = minimizer(&j, &g, k);
         Some(DualQp { rows, k, j, r: Vec::new(), active: Vec::new(), u: Vec::new(), z, fixed: vec![Fixing::Free; k], steps: 0 })
     }
 
@@ -362,6 +360,12 @@ fn dot(row: &Row, z: &[f64]) -> f64 {
     row.iter().map(|&(a, x)| x * z[a]).sum()
 }
 
+/// `z = H⁻¹ g = J Jᵀ g` with `J = L⁻ᵀ` (column-major, `k × k`): the unconstrained minimum.
+fn minimizer(j: &[f64], g: &[f64], k: usize) -> Vec<f64> {
+    let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[c * k + i] * g[i]).sum()).collect();
+    (0..k).map(|i| (0..k).map(|c| j[c * k + i] * jt_g[c]).sum()).collect()
+}
+
 /// Sizes of `z` from which [`DualQp::new`] factors with faer's blocked kernels: above it, its
 /// own loops took 40 % of `quadlay layout` on CGAL's cheese (genus 133, about 1000 free pieces
 /// a layout, each factorization k³). Below it, they stay: the blocked sums round otherwise,
@@ -422,12 +426,8 @@ mod tests {
         let j1 = unblocked(h.clone(), k).unwrap();
         let j2 = blocked(&h, k).unwrap();
         assert!(j1.iter().zip(&j2).all(|(a, b)| (a - b).abs() < 1e-12));
-        // z = J Jᵀ g (J column-major) solves H z = g, from either.
-        let z_of = |j: &[f64]| -> Vec<f64> {
-            let jt_g: Vec<f64> = (0..k).map(|c| (0..k).map(|i| j[c * k + i] * g[i]).sum()).collect();
-            (0..k).map(|i| (0..k).map(|c| j[c * k + i] * jt_g[c]).sum()).collect()
-        };
-        let (z1, z2) = (z_of(&j1), z_of(&j2));
+        // z = J Jᵀ g solves H z = g, from either.
+        let (z1, z2) = (minimizer(&j1, &g, k), minimizer(&j2, &g, k));
         assert!(z1.iter().zip(&z2).all(|(a, b)| (a - b).abs() < 1e-12));
         for i in 0..k {
             let hz: f64 = (0..k).map(|c| h[i * k + c] * z2[c]).sum();
