@@ -3,9 +3,9 @@
 // as one undoable edit, so the user starts from it and edits it like their own (Ctrl+Z
 // returns the previous layout). It also switches the field view (field-view.js) on and off.
 //
-// The core makes one proposal per tracing (along the field, and along the iso-lines of its
-// two seamless parameterizations) and keeps the best. With more than one processor they are
-// made at once, each in a worker of its own (WORKERS): helper workers beside the page's load
+// The core makes one proposal per tracing (along the field, along the iso-lines of its two
+// seamless parameterizations, and along two fields in smoothed frames) and keeps the best.
+// With more than one processor they are made at once in WORKERS workers: helper workers beside the page's load
 // the mesh too, and the core picks the one it would have kept (the same layout as one request
 // makes). The progress line counts the seconds, and Cancel stops the helpers and restarts the
 // page's worker (it gets the mesh and the placed layout again), as the solve's Cancel does for
@@ -27,10 +27,10 @@ import { parseDoc } from './layout-doc.js';
 
 const DEFAULT_FEATURE_ANGLE = 35;
 /**
- * The workers a proposal runs in where there is more than one processor: one per tracing of
- * the core (at most three). Three on two processors beat two, which leave one tracing to
- * run after the others (bunny_28k in headless Chromium on two cores: 26.2 s in one worker,
- * 22.0 s in two, 19.7 s in three).
+ * The workers a proposal runs in where there is more than one processor, each making the
+ * tracings j, j + WORKERS, … of the core's five. Three on two processors beat two (measured
+ * when the core had three tracings, bunny_28k in headless Chromium on two cores: 26.2 s in
+ * one worker, 22.0 s in two, 19.7 s in three); each worker holds the mesh, so no more.
  */
 const WORKERS = 3;
 
@@ -213,16 +213,26 @@ export class Suggester {
     const helpers = Array.from({ length: workers - 1 }, () => this.client.helper());
     token.helpers = helpers;
     const made = [];
+    const pick = () => this.client.pickSuggestion(made.map((a) => (a?.text == null ? null : { judged: a.judged, curves: a.curves })));
     try {
-      // Worker j makes tracings j, j + workers, … while there are that many.
-      const run = async (client, j) => {
-        for (let k = j; ; k += workers) {
+      // Worker j makes tracings from + j, from + j + workers, … below `to` (null: the first
+      // answer's `primary`, the surface's own field's) while there are that many.
+      const run = async (client, j, from, to) => {
+        for (let k = from + j; k < (to ?? Infinity); k += workers) {
           const answer = await client.suggestLayout({ ...options, tracing: k });
           if (answer.tracings <= k) return;
           made[k] = answer;
+          to ??= answer.primary;
         }
       };
-      await Promise.all([run(this.client, 0), ...helpers.map((h, i) => h.then((client) => run(client, i + 1)))]);
+      const each = (from, to) =>
+        Promise.all([run(this.client, 0, from, to), ...helpers.map((h, i) => h.then((client) => run(client, i + 1, from, to)))]);
+      await each(0, null);
+      // The others only where the one kept of those does not hold the surface: the core
+      // keeps it whatever they make.
+      const first = made.find(Boolean);
+      const held = await pick();
+      if (first && !(held != null && made[held].holds)) await each(first.primary, first.tracings);
     } catch (err) {
       // A helper that failed, or no field: one request does it all, or says why not.
       if (token.cancelled) throw err;
@@ -230,7 +240,7 @@ export class Suggester {
     } finally {
       stopHelpers(token);
     }
-    const kept = await this.client.pickSuggestion(made.map((a) => (a.text == null ? null : { judged: a.judged, curves: a.curves })));
+    const kept = await pick();
     // None made: one request makes the tracings' proposals again (on the field this worker
     // keeps) and then the Voronoi cells' layout, and answers with the field, or says why
     // there is no layout.

@@ -17,7 +17,7 @@
 
 use super::frames::Frames;
 use super::Complex;
-use crate::mesh::geometry::{cotangent_weights, triangle_areas};
+use crate::mesh::geometry::{cotangent_weights, vertex_areas};
 use crate::mesh::{Mesh, NONE};
 use crate::solve::{SolveError, SpdSolver};
 
@@ -31,7 +31,7 @@ const ROUNDS: usize = 3;
 
 /// The smallest positive cotangent weight used: negative weights (obtuse triangles) would
 /// make the connection Laplacian indefinite.
-const MIN_WEIGHT: f64 = 1e-6;
+pub(super) const MIN_WEIGHT: f64 = 1e-6;
 
 /// The cross field, one unit complex number `e^{4iθ}` per vertex (zero for isolated vertices).
 ///
@@ -55,13 +55,7 @@ pub fn cross_field(
             n += 1;
         }
     }
-    let areas = triangle_areas(mesh);
-    let mut mass = vec![0.0; nv];
-    for (f, t) in mesh.triangles().iter().enumerate() {
-        for &v in t {
-            mass[v as usize] += areas[f] / 3.0;
-        }
-    }
+    let mass = vertex_areas(mesh);
     let weights = cotangent_weights(mesh);
     let eps = 1.0 / (ALIGN_LENGTH * diagonal).powi(2);
 

@@ -12,7 +12,7 @@
 use super::frames::Frames;
 use super::Complex;
 use crate::geom::{cross, dot, norm, sub, unit};
-use crate::mesh::geometry::{face_normals, triangle_areas};
+use crate::mesh::geometry::{face_normals, vertex_areas};
 use crate::mesh::Mesh;
 
 /// Anisotropy `|λ1 − λ2| / (|λ1| + |λ2|)` below this gives no guide; it reaches full weight
@@ -39,13 +39,7 @@ pub fn curvature_guide(mesh: &Mesh, frames: &Frames, diagonal: f64) -> Vec<Compl
             beta * norm(d)
         })
         .collect();
-    let areas = triangle_areas(mesh);
-    let mut vertex_area = vec![0.0; mesh.n_vertices()];
-    for (f, t) in mesh.triangles().iter().enumerate() {
-        for &v in t {
-            vertex_area[v as usize] += areas[f] / 3.0;
-        }
-    }
+    let vertex_area = vertex_areas(mesh);
     (0..mesh.n_vertices() as u32)
         .map(|v| {
             if mesh.is_isolated(v) {

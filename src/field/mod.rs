@@ -29,7 +29,7 @@ pub use complex::Complex;
 pub use features::{find_features, Features};
 pub use frames::Frames;
 pub use judge::Judged;
-pub use propose::{pick, propose_layout, with_corners_chosen, Candidate, LayoutOptions, Proposal, ProposeError, Tracings};
+pub use propose::{pick, propose_layout, with_corners_chosen, Candidate, LayoutOptions, Proposal, ProposeError, Tracings, PRIMARY_TRACINGS};
 pub use singularities::{singularities, Singularity};
 
 use crate::geom::{norm, sub};
@@ -136,8 +136,23 @@ pub fn diagonal(mesh: &Mesh) -> f64 {
 /// # Errors
 /// [`SolveError`] if the sparse factorization fails (a degenerate mesh).
 pub fn compute_field(mesh: &Mesh, feature_angle_deg: f64) -> Result<CrossField, SolveError> {
-    let frames = Frames::new(mesh);
+    field_in(mesh, Frames::new(mesh), find_features(mesh, feature_angle_deg))
+}
+
+/// [`compute_field`] in frames whose normals are diffused over `smoothing` times the
+/// bounding-box diagonal first, but not across its sharp edges ([`Frames::smoothed`]): its
+/// singularities are where the smoothed surface turns, not where each vertex of a noisy
+/// tessellation does.
+///
+/// # Errors
+/// [`SolveError`] if a sparse factorization fails (a degenerate mesh).
+pub fn compute_smoothed_field(mesh: &Mesh, feature_angle_deg: f64, smoothing: f64) -> Result<CrossField, SolveError> {
     let features = find_features(mesh, feature_angle_deg);
+    field_in(mesh, Frames::smoothed(mesh, smoothing * diagonal(mesh), &features.sharp)?, features)
+}
+
+/// The cross field in `frames` with `features` as constraints.
+fn field_in(mesh: &Mesh, frames: Frames, features: Features) -> Result<CrossField, SolveError> {
     let diag = diagonal(mesh);
     let guide = curvature::curvature_guide(mesh, &frames, diag);
     let fixed = line_constraints(mesh, &frames, &features);

@@ -25,6 +25,18 @@ pub fn triangle_areas(mesh: &Mesh) -> Vec<f64> {
         .collect()
 }
 
+/// The lumped mass of every vertex: a third of the area of each triangle round it.
+pub fn vertex_areas(mesh: &Mesh) -> Vec<f64> {
+    let areas = triangle_areas(mesh);
+    let mut mass = vec![0.0; mesh.n_vertices()];
+    for (f, t) in mesh.triangles().iter().enumerate() {
+        for &v in t {
+            mass[v as usize] += areas[f] / 3.0;
+        }
+    }
+    mass
+}
+
 /// Unit normal of every triangle (by its orientation), indexed by face.
 pub fn face_normals(mesh: &Mesh) -> Vec<Vec3> {
     mesh.triangles()

@@ -157,6 +157,12 @@ test('proposals made apart and picked are the one suggestion', () => {
     assert.equal(beyond.layout, null);
     assert.equal(beyond.error, null);
     const kept = pickSuggestion(made.map(({ judged, curves }) => ({ judged, curves })));
+    // The first `primary` are the surface's own field's; where the one kept of those holds
+    // the surface, the others change nothing (the page then makes none of them).
+    assert.equal(first.primary, 3);
+    assert.equal(typeof first.holds, 'boolean');
+    const keptOfPrimary = pickSuggestion(made.slice(0, first.primary).map(({ judged, curves }) => ({ judged, curves })));
+    if (made[keptOfPrimary].holds) assert.equal(kept, keptOfPrimary);
     const chosen = s.finishSuggestion(made[kept].layout, made[kept].judged, {});
     assert.equal(chosen.layout, whole.layout);
     assert.deepEqual(made[kept].field, whole.field);
