@@ -228,9 +228,12 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
 /// factorization fails); the layout whose quads come out best is kept ([`judge`]).
 pub struct Tracings {
     pub field: CrossField,
-    /// The field, its two iso-line tracings, the fields of [`SMOOTHINGS`], in that order;
-    /// `None` where one could not be made.
+    /// The field and its two iso-line tracings, in that order; `None` where one could not be
+    /// made.
     tracings: Vec<Option<CrossField>>,
+    /// The fields of [`SMOOTHINGS`], made when a proposal along one is first asked for (most
+    /// layouts need none: [`pick`]); `None` where one could not be made.
+    smoothed: [std::sync::OnceLock<Option<CrossField>>; SMOOTHINGS.len()],
 }
 
 /// The tracings of the surface's own field (its streamlines and its two iso-line tracings):
@@ -260,17 +263,12 @@ impl Tracings {
     /// [`ProposeError::Field`] if the field's solve fails.
     pub fn new(mesh: &Mesh, options: &LayoutOptions) -> Result<Tracings, ProposeError> {
         let field = compute_field(mesh, options.feature_angle).map_err(ProposeError::Field)?;
-        // The iso-lines (`None`) and the smoothed fields, at once.
-        let jobs: Vec<Option<f64>> = std::iter::once(None).chain(SMOOTHINGS.map(Some)).collect();
-        let made = at_once(&jobs, |job| match *job {
-            None => match iso_lines(mesh, &field) {
-                Ok(isos) => isos.into_iter().map(|iso| Some(CrossField { iso, ..field.clone() })).collect(),
-                Err(_) => vec![None, None],
-            },
-            Some(smoothing) => vec![compute_smoothed_field(mesh, options.feature_angle, smoothing).ok()],
-        });
-        let tracings = std::iter::once(Some(field.clone())).chain(made.into_iter().flatten()).collect();
-        Ok(Tracings { field, tracings })
+        let isos: Vec<Option<CrossField>> = match iso_lines(mesh, &field) {
+            Ok(isos) => isos.into_iter().map(|iso| Some(CrossField { iso, ..field.clone() })).collect(),
+            Err(_) => vec![None, None],
+        };
+        let tracings = std::iter::once(Some(field.clone())).chain(isos).collect();
+        Ok(Tracings { field, tracings, smoothed: Default::default() })
     }
 
     /// [`propose_layout`] with these tracings (made with `options`' feature angle): the
@@ -364,7 +362,7 @@ impl Tracings {
 
     /// How many proposals there are to make.
     pub fn count(&self) -> usize {
-        self.tracings.len()
+        self.tracings.len() + SMOOTHINGS.len()
     }
 
     /// The proposal along tracing `k` (below [`Tracings::count`]), judged: apart, the page
@@ -373,7 +371,14 @@ impl Tracings {
     /// # Errors
     /// [`ProposeError::NoValidLayout`] if the repairs cannot make a valid layout along it.
     pub fn candidate(&self, mesh: &Mesh, k: usize, options: &LayoutOptions) -> Result<Candidate, ProposeError> {
-        let Some(field) = &self.tracings[k] else {
+        let field = match self.tracings.get(k) {
+            Some(field) => field,
+            None => {
+                let j = k - self.tracings.len();
+                self.smoothed[j].get_or_init(|| compute_smoothed_field(mesh, options.feature_angle, SMOOTHINGS[j]).ok())
+            }
+        };
+        let Some(field) = field else {
             return Err(ProposeError::NoValidLayout("this tracing's field or parameterization could not be solved".into()));
         };
         let (layout, surface) = propose_along(mesh, field, options)?;
