@@ -323,7 +323,7 @@ impl Session {
         let Some(k) = tracing else {
             return to_js(&made(tracings.propose(mesh, &opts).map_err(failed)?));
         };
-        let (n, primary) = (Some(tracings.count()), Some(PRIMARY_TRACINGS.min(tracings.count())));
+        let (n, primary) = (Some(tracings.count()), Some(PRIMARY_TRACINGS));
         if k >= tracings.count() {
             return to_js(&Suggestion { tracings: n, primary, ..Default::default() });
         }

@@ -5,8 +5,9 @@
 //
 // The core makes one proposal per tracing (along the field, along the iso-lines of its two
 // seamless parameterizations, and along two fields in smoothed frames) and keeps the best.
-// With more than one processor they are made at once in WORKERS workers: helper workers beside the page's load
-// the mesh too, and the core picks the one it would have kept (the same layout as one request
+// With more than one processor they are made at once in WORKERS workers (the last two only
+// where none of the first three holds the surface): helper workers beside the page's load the
+// mesh too, and the core picks the one it would have kept (the same layout as one request
 // makes). The progress line counts the seconds, and Cancel stops the helpers and restarts the
 // page's worker (it gets the mesh and the placed layout again), as the solve's Cancel does for
 // a long step.

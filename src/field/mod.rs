@@ -139,15 +139,14 @@ pub fn compute_field(mesh: &Mesh, feature_angle_deg: f64) -> Result<CrossField, 
     field_in(mesh, Frames::new(mesh), find_features(mesh, feature_angle_deg))
 }
 
-/// [`compute_field`] in frames whose normals are diffused over `smoothing` times the
-/// bounding-box diagonal first, but not across its sharp edges ([`Frames::smoothed`]): its
-/// singularities are where the smoothed surface turns, not where each vertex of a noisy
-/// tessellation does.
+/// [`compute_field`] with `features` (its own, found once) in frames whose normals are
+/// diffused over `smoothing` times the bounding-box diagonal first, but not across the sharp
+/// edges ([`Frames::smoothed`]): its singularities are where the smoothed surface turns, not
+/// where each vertex of a noisy tessellation does.
 ///
 /// # Errors
 /// [`SolveError`] if a sparse factorization fails (a degenerate mesh).
-pub fn compute_smoothed_field(mesh: &Mesh, feature_angle_deg: f64, smoothing: f64) -> Result<CrossField, SolveError> {
-    let features = find_features(mesh, feature_angle_deg);
+pub fn compute_smoothed_field(mesh: &Mesh, features: Features, smoothing: f64) -> Result<CrossField, SolveError> {
     field_in(mesh, Frames::smoothed(mesh, smoothing * diagonal(mesh), &features.sharp)?, features)
 }
 

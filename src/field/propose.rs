@@ -241,7 +241,6 @@ pub struct Tracings {
 /// [`Judged::holds`]).
 pub const PRIMARY_TRACINGS: usize = 3;
 
-
 /// One tracing's proposal, judged by its quads ([`Tracings::candidate`]).
 pub struct Candidate {
     pub layout: Layout,
@@ -282,11 +281,10 @@ impl Tracings {
     pub fn propose(&self, mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
         let made = |ks: std::ops::Range<usize>| at_once(&ks.collect::<Vec<_>>(), |&k| self.candidate(mesh, k, options));
         let summaries = |cs: &[Result<Candidate, ProposeError>]| cs.iter().map(|c| c.as_ref().ok().map(Candidate::summary)).collect::<Vec<_>>();
-        let primary = PRIMARY_TRACINGS.min(self.count());
-        let mut candidates = made(0..primary);
+        let mut candidates = made(0..PRIMARY_TRACINGS);
         // The others only where they may be kept: what pick keeps of all when they are made.
-        if pick(&summaries(&candidates)).is_none_or(|i| !holds(&candidates[i])) {
-            candidates.extend(made(primary..self.count()));
+        if held_primary(&summaries(&candidates)).is_none() {
+            candidates.extend(made(PRIMARY_TRACINGS..self.count()));
         }
         let kept = pick(&summaries(&candidates));
         let mut error = None;
@@ -375,7 +373,7 @@ impl Tracings {
             Some(field) => field,
             None => {
                 let j = k - self.tracings.len();
-                self.smoothed[j].get_or_init(|| compute_smoothed_field(mesh, options.feature_angle, SMOOTHINGS[j]).ok())
+                self.smoothed[j].get_or_init(|| compute_smoothed_field(mesh, self.field.features.clone(), SMOOTHINGS[j]).ok())
             }
         };
         let Some(field) = field else {
@@ -431,19 +429,21 @@ pub fn with_corners_chosen(mesh: &Mesh, field: &CrossField, placed: &Placement, 
 /// holds the surface ([`Judged::holds`]), else the best judged of all ([`best`]), else the
 /// first made (none could be remeshed to judge it); `None` if none was made.
 pub fn pick(candidates: &[Option<(Option<Judged>, usize)>]) -> Option<usize> {
-    let best_of = |cs: &[Option<(Option<Judged>, usize)>]| {
-        let judged: Vec<_> = cs.iter().map(|c| c.and_then(|c| c.0)).collect();
-        let curves: Vec<usize> = cs.iter().map(|c| c.map_or(0, |c| c.1)).collect();
-        best(&judged, &curves)
-    };
-    let primary = &candidates[..PRIMARY_TRACINGS.min(candidates.len())];
-    let held = best_of(primary).filter(|&i| primary[i].and_then(|c| c.0).is_some_and(|j| j.holds()));
-    held.or_else(|| best_of(candidates)).or_else(|| candidates.iter().position(Option::is_some))
+    held_primary(candidates).or_else(|| best_of(candidates)).or_else(|| candidates.iter().position(Option::is_some))
 }
 
-/// Whether a candidate's judged quads hold the surface ([`Judged::holds`]).
-fn holds(c: &Result<Candidate, ProposeError>) -> bool {
-    c.as_ref().ok().and_then(|c| c.judged).is_some_and(|j| j.holds())
+/// The best judged of the [`PRIMARY_TRACINGS`]' candidates (as [`pick`] gets them) if it
+/// holds the surface ([`Judged::holds`]).
+fn held_primary(candidates: &[Option<(Option<Judged>, usize)>]) -> Option<usize> {
+    let primary = &candidates[..PRIMARY_TRACINGS.min(candidates.len())];
+    best_of(primary).filter(|&i| primary[i].and_then(|c| c.0).is_some_and(|j| j.holds()))
+}
+
+/// The best judged of `candidates` ([`best`]).
+fn best_of(candidates: &[Option<(Option<Judged>, usize)>]) -> Option<usize> {
+    let judged: Vec<_> = candidates.iter().map(|c| c.and_then(|c| c.0)).collect();
+    let curves: Vec<usize> = candidates.iter().map(|c| c.map_or(0, |c| c.1)).collect();
+    best(&judged, &curves)
 }
 
 /// `f` of every item, in order: natively each after the first on a thread of its own (one
