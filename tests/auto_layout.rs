@@ -270,3 +270,24 @@ fn fewer_patches_asked_give_fewer_faces() {
     assert_eq!(parse_layout(&write_layout(&p.layout)).unwrap(), p.layout);
     assert!(ParamSession::new(&mesh, &p.surface, &ParamOptions::default()).is_ok());
 }
+
+/// Two cubes touching along a side, each with vertices of its own there (as CAD exports have
+/// seams): the mesh is coarse and refined, and the written layout reads back on it. The
+/// midpoints of the seam's twin edges once shared points, which name vertices the refinement
+/// adds in a layout file: `remesh` snapped a tagged curve's waypoint onto the other cube.
+#[test]
+fn a_layout_on_cubes_touching_along_a_seam_reads_back() {
+    let (one, _) = common::cube(2);
+    let mut positions = one.positions().to_vec();
+    positions.extend(one.positions().iter().map(|p| [p[0] + 1.0, p[1], p[2]]));
+    let n = one.n_vertices() as u32;
+    let triangles = one.triangles().iter().copied().chain(one.triangles().iter().map(|t| t.map(|v| v + n))).collect();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("auto_layout_seam");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |f: &str| dir.join(f).to_string_lossy().into_owned();
+    std::fs::write(path("cubes.obj"), common::obj_text(&common::mesh_of(positions, triangles))).unwrap();
+    let (code, _, err) = common::run_cli(&["layout", &path("cubes.obj"), "-o", &path("cubes.json")]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = common::run_cli(&["remesh", &path("cubes.obj"), "--layout", &path("cubes.json"), "--quads", "500", "-o", &path("quads.obj")]);
+    assert_eq!(code, 0, "{err}");
+}
