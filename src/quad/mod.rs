@@ -213,10 +213,18 @@ pub fn check_reads_back(quads: &QuadMesh) -> Result<(), QuadError> {
     let soup = TriangleSoup { positions: quads.positions.clone(), triangles, ..TriangleSoup::default() };
     let Err(error) = build_mesh(soup) else { return Ok(()) };
     let quad = error.face().map(|t| t / 2);
-    let at = quad.and_then(|q| quads.quads.get(q as usize)).map_or([f64::NAN; 3], |q| {
-        let p = q.map(|v| quads.positions.get(v as usize).copied().unwrap_or([f64::NAN; 3]));
+    let position = |v: u32| quads.positions.get(v as usize).copied().unwrap_or([f64::NAN; 3]);
+    let centre = quad.and_then(|q| quads.quads.get(q as usize)).map(|q| {
+        let p = q.map(position);
         [0, 1, 2].map(|k| p.iter().map(|c| c[k]).sum::<f64>() / 4.0)
     });
+    // A vertex whose quads form more than one fan (a quad at it folded flat, its triangle
+    // dropped as of zero area) names no quad: its own position, not NaN.
+    let at = match (centre, &error) {
+        (Some(at), _) => at,
+        (None, MeshError::NonManifoldVertex { vertex }) => position(*vertex),
+        (None, _) => [f64::NAN; 3],
+    };
     Err(QuadError::Unreadable { quad, at, error })
 }
 
@@ -633,5 +641,17 @@ mod tests {
         assert_eq!(*quad, Some(1));
         assert_eq!(*at, [1.5, 0.5, 0.0]);
         assert!(err.to_string().starts_with("the quad mesh would not read back: quad 1 (near 1.500000, 0.500000, 0.000000)"), "{err}");
+    }
+
+    #[test]
+    fn quads_meeting_at_a_vertex_only_are_refused_naming_where() {
+        // Two unit squares touching at a corner (2): more than one fan round it, no quad
+        // named, so the place is the vertex's (it was NaN).
+        let positions = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [2.0, 1.0, 0.0], [2.0, 2.0, 0.0], [1.0, 2.0, 0.0]];
+        let bowtie = QuadMesh { positions, quads: vec![[0, 1, 2, 3], [2, 4, 5, 6]], vertex_node: vec![NONE; 7] };
+        let err = check_reads_back(&bowtie).unwrap_err();
+        let QuadError::Unreadable { quad: None, at, .. } = &err else { panic!("{err}") };
+        assert_eq!(*at, [1.0, 1.0, 0.0]);
+        assert!(err.to_string().contains("(near 1.000000, 1.000000, 0.000000)"), "{err}");
     }
 }
