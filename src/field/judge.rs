@@ -88,7 +88,7 @@ pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Ju
         param.step().ok()?;
     }
     param.finish().ok()?;
-    let quad_options = QuadOptions { relax_rounds: RELAX_ROUNDS, rectify_steps: RECTIFY_STEPS, ..QuadOptions::with_edge_length(edge_length) };
+    let quad_options = QuadOptions { relax_rounds: RELAX_ROUNDS, rectify_steps: RECTIFY_STEPS, slide_on_curves: false, ..QuadOptions::with_edge_length(edge_length) };
     let (quads, _) = extract(layout, &param, &quad_options).ok()?;
     check_reads_back(&quads).ok()?;
     let q = measure(mesh, &quads);

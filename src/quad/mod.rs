@@ -9,6 +9,7 @@ pub mod density;
 pub mod diagonals;
 pub mod doublets;
 pub mod locate;
+pub mod rails;
 pub mod rectify;
 pub mod relax;
 
@@ -55,6 +56,9 @@ pub struct QuadOptions {
     /// Global steps toward rectangles before those rounds ([`rectify`]). Default:
     /// [`relax::STEPS`].
     pub rectify_steps: usize,
+    /// Whether the samples of tagged curves slide along them in the rounds ([`rails`]).
+    /// Default: true.
+    pub slide_on_curves: bool,
 }
 
 impl QuadOptions {
@@ -63,7 +67,7 @@ impl QuadOptions {
         QuadOptions::with_edge_length(default_edge_length(mesh))
     }
     pub fn with_edge_length(edge_length: f64) -> QuadOptions {
-        QuadOptions { edge_length, relax_rounds: relax::ROUNDS, rectify_steps: relax::STEPS }
+        QuadOptions { edge_length, relax_rounds: relax::ROUNDS, rectify_steps: relax::STEPS, slide_on_curves: true }
     }
 }
 
@@ -571,12 +575,21 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
             }
         }
     }
-    // The samples of tagged curves (and the boundary) stay: they are the edge loops asked for.
+    // The samples of tagged curves (and the boundary) stay on them: they are the edge loops
+    // asked for. The nodes stay where they are; the others may slide along their curve.
     let mut pinned = vec![false; mesh.positions.len()];
+    let mut rails = rails::Rails { curves: vec![rails::Polyline::default(); layout.curves.len()], on: vec![None; mesh.positions.len()] };
     for (c, lc) in layout.curves.iter().enumerate() {
         if lc.align {
             for j in 0..=counts[c] {
                 pinned[curve_sample(c, j) as usize] = true;
+            }
+            if options.slide_on_curves {
+                rails.curves[c] = rails::Polyline::new(cut.curve_vertices[c].iter().map(|&v| cut.positions[v as usize]).collect());
+                for j in 1..counts[c] {
+                    let v = curve_sample(c, j);
+                    rails.place(v, c as u32, mesh.positions[v as usize]);
+                }
             }
         }
     }
@@ -592,13 +605,15 @@ pub fn extract(layout: &SurfaceLayout, param: &ParamSession, options: &QuadOptio
     let dropped = doublets::dissolve(&mut mesh, &mut quad_face);
     doublets::remove_marked(&mut pinned, &dropped);
     doublets::remove_marked(&mut squared, &dropped);
+    doublets::remove_marked(&mut rails.on, &dropped);
     let surface = relax::Surface::new(&cut.positions, cut.triangles.clone());
     // Two nodes one quad apart across a diagonal: merged where that leaves fewer irregular
     // vertices (over 26 meshes' automatic layouts at --quads 4000, 2208 -> 2127).
     let merged = diagonals::collapse(&mut mesh, &mut quad_face, &pinned, &surface);
     doublets::remove_marked(&mut pinned, &merged);
     doublets::remove_marked(&mut squared, &merged);
-    let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &squared, options.rectify_steps, options.relax_rounds);
+    doublets::remove_marked(&mut rails.on, &merged);
+    let relaxed_vertices = relax::relax(&mut mesh, &surface, &pinned, &rails, &squared, options.rectify_steps, options.relax_rounds);
     Ok((mesh, Extraction { counts, desired, outside_points: map.outside, relaxed_vertices }))
 }
 

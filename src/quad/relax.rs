@@ -20,12 +20,14 @@
 //! where a layout edge is not tagged (its pieces are straight in both charts, not across
 //! them), at T-vertices, and where the harmonic map shears a chart. Those kinks are the skew
 //! corners a user sees; the surface does not need them. Vertices on tagged curves (the edge
-//! loops the user asked for, the boundary, sharp features) stay where they are, so every
-//! promise of the layout is kept, and so do vertices on creases of the quads; a move that
+//! loops the user asked for, the boundary, sharp features) stay on them, sliding along them
+//! only ([`super::rails`]), and the layout's nodes stay where they are, so every promise of
+//! the layout is kept. Vertices on creases of the quads stay too. A move that
 //! would fold a quad is taken back, and so is one that turns a corner inside out unless it
 //! unfolds quads.
 
 use super::closest::{closest_point_on_triangle, TriangleTree};
+use super::rails::Rails;
 use super::rectify::Rectify;
 use super::quality::{corner_angle_deviations, pseudo_normal, quad_centre, quad_normal, scaled_jacobian};
 use super::QuadMesh;
@@ -56,6 +58,14 @@ const DAMPING: f64 = 0.5;
 /// skew, each tried: long enough to square a corner a neighbour's move left skewed, and
 /// shorter where the skew turns up again within the longer step.
 const DESCENT_STEPS: [f64; 3] = [0.2, 0.07, 0.02];
+/// A vertex sliding on its curve moves at most this share of the way to its neighbour there
+/// in one round...
+const RAIL_REACH: f64 = 0.5;
+/// ... and comes no nearer to it than this share of the curve's mean spacing of samples: the
+/// reach alone lets a vertex creep up on its neighbour round by round, and on CGAL's boeing
+/// two samples met, leaving a quad of three corners on a line.
+const RAIL_GAP: f64 = 0.25;
+
 /// Half the span of the central differences of the skew's slope, as a share of the mean edge
 /// length: far below the steps.
 const SLOPE_SPAN: f64 = 1e-3;
@@ -215,6 +225,8 @@ struct Move {
     score: (usize, f64),
     at: Vec3,
     normal: Vec3,
+    /// Its arc length along its curve, for a vertex that slides on one.
+    arc: f64,
     shapes: Vec<QuadState>,
 }
 
@@ -349,11 +361,12 @@ fn rectify_steps(
 }
 
 /// Relaxes the vertices of `quads` not `pinned` on `surface`: `steps` global steps toward
-/// rectangles ([`STEPS`] in a remesh), then `rounds` rounds one vertex at a time ([`ROUNDS`]);
+/// rectangles ([`STEPS`] in a remesh), then `rounds` rounds one vertex at a time ([`ROUNDS`]),
+/// in which the pinned vertices on `rails` slide along them;
 /// only those that may be `squared` move in the steps and take steps down the skew in the
 /// rounds (the others' quads keep the angles of their chart). Returns the number of vertices
 /// that moved.
-pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: &[bool], steps: usize, rounds: usize) -> usize {
+pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], rails: &Rails, squared: &[bool], steps: usize, rounds: usize) -> usize {
     let n = quads.positions.len();
     let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); n];
     let mut incident: Vec<Vec<u32>> = vec![Vec::new(); n];
@@ -433,10 +446,22 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
     let mut moves = 0u64;
     let mut moved_at = vec![0u64; n];
     let mut refused_at: Vec<Option<u64>> = vec![None; n];
+    // Pinned samples of tagged curves that slide along them: each between its neighbours
+    // along the curve (it never passes them), and where it is along it.
+    let mut on_rail: Vec<Option<(u32, f64)>> = (0..n).map(|v| rails.on.get(v).copied().flatten()).collect();
+    let order = rails.in_order();
+    let mut beside: Vec<[Option<u32>; 2]> = vec![[None; 2]; n];
+    for list in &order {
+        for (k, &v) in list.iter().enumerate() {
+            beside[v as usize] = [k.checked_sub(1).map(|j| list[j]), list.get(k + 1).copied()];
+        }
+    }
+    let rail_gap: Vec<f64> = rails.curves.iter().zip(&order).map(|(line, list)| RAIL_GAP * line.length() / (list.len() + 1) as f64).collect();
     for round in 0..rounds {
         let power = if (round as f64) < SQUARED_SHARE * rounds as f64 { 2.0 } else { SKEW_POWER };
         for v in 0..n {
-            if pinned[v] || neighbours[v].is_empty() {
+            let rail = on_rail[v];
+            if (pinned[v] && rail.is_none()) || neighbours[v].is_empty() {
                 continue;
             }
             let around = &incident[v];
@@ -485,20 +510,48 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                 positions[v] = p;
                 s
             };
-            let down = if squared[v] { steepest_descent(p, nv, SLOPE_SPAN * length, |x| skew_at(x, &mut quads.positions)) } else { None };
-            if let Some(down) = down {
-                tried.extend(DESCENT_STEPS.map(|share| add(p, scale(share * length, down))));
+            if let (Some((c, s)), true) = (rail, squared[v]) {
+                // Along the curve, both ways: one direction, so no slope to find.
+                let t = rails.curves[c as usize].tangent(s);
+                tried.extend(DESCENT_STEPS.iter().flat_map(|&share| [add(p, scale(share * length, t)), sub(p, scale(share * length, t))]));
+            } else if squared[v] && rail.is_none() {
+                if let Some(down) = steepest_descent(p, nv, SLOPE_SPAN * length, |x| skew_at(x, &mut quads.positions)) {
+                    tried.extend(DESCENT_STEPS.map(|share| add(p, scale(share * length, down))));
+                }
             }
+            // A vertex sliding on its curve: its curve, where it is along it, and where its
+            // neighbours there are.
+            let span = rail.map(|(c, s)| {
+                let arc = |w: Option<u32>, end: f64| w.and_then(|w| on_rail[w as usize]).map_or(end, |r| r.1);
+                let [before, after] = beside[v];
+                (&rails.curves[c as usize], c, s, arc(before, 0.0), arc(after, rails.curves[c as usize].length()))
+            });
+            // Its quads' edges along the curve are chords: they may cut a bend of it only as deep
+            // as they did, and [`COVER`] of an edge more.
+            let cuts_no_bend = |arc: f64| span.is_none_or(|(line, _, s, lo, hi)| line.chord_miss(lo, arc, hi) <= line.chord_miss(lo, s, hi) + COVER * length);
+            // Where a move lands: on the surface at the nearest point (a nearest point far from
+            // the step's end is another sheet of the surface), or on the vertex's curve between
+            // its neighbours there ([`RAIL_REACH`], [`RAIL_GAP`]), keeping its normal.
+            let limits = span.map(|(_, c, s, lo, hi)| {
+                let gap = rail_gap[c as usize];
+                (c, (s - RAIL_REACH * (s - lo)).max(lo + gap).min(s), (s + RAIL_REACH * (hi - s)).min(hi - gap).max(s))
+            });
+            let mut land = |target: Vec3| -> Option<(Vec3, Vec3, f64)> {
+                if let Some((c, lo, hi)) = limits {
+                    let (s, q) = rails.curves[c as usize].nearest(target, lo, hi);
+                    return Some((q, nv, s));
+                }
+                let step = norm(sub(target, p));
+                surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= step).map(|(q, n)| (q, n, 0.0))
+            };
             // The sound move that leaves the fewest folded quads, then the least skew.
             let mut best: Option<Move> = None;
-            // Each move's end on the surface (a nearest point far from the step's end is
-            // another sheet of the surface), and its skew.
-            let mut landed: Vec<(f64, Vec3, Vec3)> = tried
+            // Each move's end, and its skew.
+            let mut landed: Vec<(f64, Vec3, Vec3, f64)> = tried
                 .into_iter()
                 .filter_map(|target| {
-                    let step = norm(sub(target, p));
-                    let (q, nq) = surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= step)?;
-                    Some((skew_at(q, &mut quads.positions), q, nq))
+                    let (q, nq, arc) = land(target)?;
+                    Some((skew_at(q, &mut quads.positions), q, nq, arc))
                 })
                 .collect();
             // With none of its quads folded, the sound move of least skew wins, and only one
@@ -508,7 +561,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                 landed.retain(|l| l.0 < skew_before);
                 landed.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
-            for (skew_now, q, nq) in landed {
+            for (skew_now, q, nq, arc) in landed {
                 if folded_before == 0 && best.is_some() {
                     break;
                 }
@@ -522,19 +575,23 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
                 let sound = better
                     && best.as_ref().is_none_or(|b| score < b.score)
                     && (!bent[v] || covers(&quads.positions, &anchor, &quads.quads, around, v))
+                    && cuts_no_bend(arc)
                     && around.iter().zip(&shapes).all(|(&i, now)| {
                         (keeps(&before[i as usize], now) || (unfolds && !now.flipped))
                             && !strays(surface, &quads.positions, quads.quads[i as usize], reach[i as usize], &mut quad_leaf[i as usize])
                     });
                 if sound {
-                    best = Some(Move { score, at: q, normal: nq, shapes });
+                    best = Some(Move { score, at: q, normal: nq, arc, shapes });
                 }
                 quads.positions[v] = p;
                 normals[v] = old_normal;
             }
-            if let Some(Move { at, normal, shapes, .. }) = best {
+            if let Some(Move { at, normal, arc, shapes, .. }) = best {
                 quads.positions[v] = at;
                 normals[v] = normal;
+                if let Some((c, _)) = rail {
+                    on_rail[v] = Some((c, arc));
+                }
                 for (&i, shape) in around.iter().zip(shapes) {
                     now[i as usize] = shape;
                 }
@@ -553,6 +610,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], squared: 
 mod tests {
     use super::*;
     use crate::mesh::NONE;
+    use crate::quad::rails::Polyline;
 
     /// The powers taken without `powf` are the powers.
     #[test]
@@ -645,10 +703,10 @@ mod tests {
         let (mut on_prism, pinned, v) = quads_round_a_tube();
         let squared = vec![true; pinned.len()];
         let pushed = on_prism.positions[v];
-        relax(&mut on_prism, &tube(6), &pinned, &squared, STEPS, ROUNDS);
+        relax(&mut on_prism, &tube(6), &pinned, &Rails::default(), &squared, STEPS, ROUNDS);
         assert_eq!(on_prism.positions[v], pushed);
         let (mut on_cylinder, _, _) = quads_round_a_tube();
-        relax(&mut on_cylinder, &tube(96), &pinned, &squared, STEPS, ROUNDS);
+        relax(&mut on_cylinder, &tube(96), &pinned, &Rails::default(), &squared, STEPS, ROUNDS);
         let z = on_cylinder.positions[v][2];
         assert!((z - 2.0).abs() < 0.1, "the vertex pushed to z = 2.3 is at z = {z}");
     }
@@ -681,16 +739,46 @@ mod tests {
         let v = id(2, 1) as usize;
         let pinned: Vec<bool> = (0..positions.len()).map(|w| w != v).collect();
         let mut m = QuadMesh { positions, quads, vertex_node: vec![NONE; 15] };
-        relax(&mut m, &filleted_corner(r), &pinned, &[true; 15], STEPS, ROUNDS);
+        relax(&mut m, &filleted_corner(r), &pinned, &Rails::default(), &[true; 15], STEPS, ROUNDS);
         let [x, _, z] = m.positions[v];
         assert!(x > -r && z > 0.02 * r, "moved off the fillet to {:?}", m.positions[v]);
+    }
+
+    /// The bottom side's samples bunched toward one end (as a harmonic map that stretches one
+    /// end of a tagged side spaces them): pinned, the grid lines leave that side at a slant;
+    /// sliding along it, they meet it square, and the samples stay on it, in order.
+    #[test]
+    fn samples_of_a_tagged_side_slide_along_it_until_the_grid_meets_it_square() {
+        let n = 8;
+        let bunched = |m: &mut QuadMesh| {
+            for i in 1..n {
+                let t = i as f64 / n as f64;
+                m.positions[i][0] = t * t;
+            }
+        };
+        let (mut pinned_only, pinned) = grid(n, |_, _| [0.0; 2]);
+        bunched(&mut pinned_only);
+        let skewed = angle_deviation(&pinned_only);
+        let mut sliding = pinned_only.clone();
+        relax(&mut pinned_only, &plane(), &pinned, &Rails::default(), &vec![true; pinned.len()], STEPS, ROUNDS);
+        let mut rails = Rails { curves: vec![Polyline::new(vec![[0.0; 3], [1.0, 0.0, 0.0]])], on: vec![None; sliding.positions.len()] };
+        for i in 1..n {
+            rails.place(i as u32, 0, sliding.positions[i]);
+        }
+        relax(&mut sliding, &plane(), &pinned, &rails, &vec![true; pinned.len()], STEPS, ROUNDS);
+        let (held, slid) = (angle_deviation(&pinned_only), angle_deviation(&sliding));
+        assert!(slid < 0.6 * held && held < skewed, "{skewed} -> pinned {held}, sliding {slid}");
+        let bottom: Vec<Vec3> = (0..=n).map(|i| sliding.positions[i]).collect();
+        assert!(bottom.iter().all(|p| p[1] == 0.0 && p[2] == 0.0), "{bottom:?}");
+        assert!(bottom.windows(2).all(|w| w[0][0] < w[1][0]), "{bottom:?}");
+        assert_eq!((bottom[0], bottom[n]), ([0.0; 3], [1.0, 0.0, 0.0]));
     }
 
     #[test]
     fn a_regular_grid_stays_as_it_is() {
         let (mut m, pinned) = grid(6, |_, _| [0.0; 2]);
         let before = m.positions.clone();
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], STEPS, ROUNDS);
+        relax(&mut m, &plane(), &pinned, &Rails::default(), &vec![true; pinned.len()], STEPS, ROUNDS);
         for (a, b) in m.positions.iter().zip(&before) {
             assert!(norm(sub(*a, *b)) < 1e-12, "{a:?} moved from {b:?}");
         }
@@ -702,7 +790,7 @@ mod tests {
         let (mut m, pinned) = grid(8, |i, j| [0.04 * (j as f64).sin(), 0.04 * (i as f64 * 1.7).cos()]);
         let before = m.clone();
         let skew = angle_deviation(&m);
-        let moved = relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], STEPS, ROUNDS);
+        let moved = relax(&mut m, &plane(), &pinned, &Rails::default(), &vec![true; pinned.len()], STEPS, ROUNDS);
         assert!(moved > 0);
         assert!(angle_deviation(&m) < 0.5 * skew, "{} -> {}", skew, angle_deviation(&m));
         for v in 0..m.positions.len() {
@@ -722,7 +810,7 @@ mod tests {
     fn no_rounds_move_nothing() {
         let (mut m, pinned) = grid(8, |i, j| [0.04 * (j as f64).sin(), 0.04 * (i as f64 * 1.7).cos()]);
         let before = m.positions.clone();
-        assert_eq!(relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], 0, 0), 0);
+        assert_eq!(relax(&mut m, &plane(), &pinned, &Rails::default(), &vec![true; pinned.len()], 0, 0), 0);
         assert_eq!(m.positions, before);
     }
 
@@ -734,7 +822,7 @@ mod tests {
         let (mut m, pinned) = grid_free_at(4, v);
         m.positions[v] = [0.8, 0.8, 0.0];
         assert!(folded_quads(&m) > 0);
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], STEPS, ROUNDS);
+        relax(&mut m, &plane(), &pinned, &Rails::default(), &vec![true; pinned.len()], STEPS, ROUNDS);
         assert_eq!(folded_quads(&m), 0);
         assert!(norm(sub(m.positions[v], [0.5, 0.5, 0.0])) < 0.01, "{:?}", m.positions[v]);
     }
@@ -749,7 +837,7 @@ mod tests {
         m.positions[v] = [0.8, 0.8, 0.0];
         m.positions[v - 1][2] = 0.3;
         assert!(folded_quads(&m) > 0);
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], STEPS, ROUNDS);
+        relax(&mut m, &plane(), &pinned, &Rails::default(), &vec![true; pinned.len()], STEPS, ROUNDS);
         assert_eq!(folded_quads(&m), 0);
     }
 
@@ -772,7 +860,7 @@ mod tests {
         let least = search.map(|x| skew_at(&m, x)).fold(f64::INFINITY, f64::min);
         let mean = skew_at(&m, [0.575, 0.575]);
         assert!(mean > 1.5 * least, "the test needs a mean {mean} off the least skew {least}");
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], STEPS, ROUNDS);
+        relax(&mut m, &plane(), &pinned, &Rails::default(), &vec![true; pinned.len()], STEPS, ROUNDS);
         let p = m.positions[v];
         let relaxed = skew_at(&m, [p[0], p[1]]);
         assert!(relaxed < 1.001 * least, "relaxed to {p:?}: skew {relaxed}, the least {least}, the mean's {mean}");
@@ -786,7 +874,7 @@ mod tests {
         let (mut m, pinned) = grid_free_at(4, v);
         m.positions[v] = [0.5, 0.55, 0.0];
         assert_eq!(folded_quads(&m), 2);
-        relax(&mut m, &plane(), &pinned, &vec![true; pinned.len()], STEPS, ROUNDS);
+        relax(&mut m, &plane(), &pinned, &Rails::default(), &vec![true; pinned.len()], STEPS, ROUNDS);
         assert_eq!(folded_quads(&m), 0);
         assert!(norm(sub(m.positions[v], [0.5, 0.0, 0.0])) < 0.02, "{:?}", m.positions[v]);
     }
