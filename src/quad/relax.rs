@@ -528,7 +528,8 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], rails: &R
             });
             // Its quads' edges along the curve are chords: they may cut a bend of it only as deep
             // as they did, and [`COVER`] of an edge more.
-            let cuts_no_bend = |arc: f64| span.is_none_or(|(line, _, s, lo, hi)| line.chord_miss(lo, arc, hi) <= line.chord_miss(lo, s, hi) + COVER * length);
+            let missed = span.map_or(0.0, |(line, _, s, lo, hi)| line.chord_miss(lo, s, hi));
+            let cuts_no_bend = |arc: f64| span.is_none_or(|(line, _, _, lo, hi)| line.chord_miss(lo, arc, hi) <= missed + COVER * length);
             // Where a move lands: on the surface at the nearest point (a nearest point far from
             // the step's end is another sheet of the surface), or on the vertex's curve between
             // its neighbours there ([`RAIL_REACH`], [`RAIL_GAP`]), keeping its normal.
