@@ -125,7 +125,7 @@ impl Rails {
     }
 
     /// Per curve, the vertices on it in order along it.
-    pub fn in_order(&self) -> Vec<Vec<u32>> {
+    fn in_order(&self) -> Vec<Vec<u32>> {
         let mut order = vec![Vec::new(); self.curves.len()];
         for (v, r) in self.on.iter().enumerate() {
             if let Some((c, _)) = r {
@@ -140,6 +140,87 @@ impl Rails {
 
     fn arc(&self, v: u32) -> f64 {
         self.on[v as usize].map_or(0.0, |r| r.1)
+    }
+}
+
+/// A vertex sliding on its curve moves at most this share of the way to its neighbour there
+/// in one move...
+const REACH: f64 = 0.5;
+/// ... and comes no nearer to it than this share of the curve's mean spacing of samples: the
+/// reach alone lets a vertex creep up on its neighbour move by move, and on CGAL's boeing two
+/// samples met, leaving a quad of three corners on a line.
+const GAP: f64 = 0.25;
+
+/// The vertices on rails as the relaxation moves them: where each is along its curve, and
+/// its neighbours there (it never passes them).
+pub struct Slides<'a> {
+    rails: &'a Rails,
+    on: Vec<Option<(u32, f64)>>,
+    beside: Vec<[Option<u32>; 2]>,
+    /// Per curve, the least distance along it between its samples ([`GAP`]).
+    gap: Vec<f64>,
+}
+
+impl<'a> Slides<'a> {
+    /// The vertices of `rails` where they are, among `n` vertices.
+    pub fn new(rails: &'a Rails, n: usize) -> Slides<'a> {
+        let on: Vec<Option<(u32, f64)>> = (0..n).map(|v| rails.on.get(v).copied().flatten()).collect();
+        let order = rails.in_order();
+        let mut beside = vec![[None; 2]; n];
+        for list in &order {
+            for (k, &v) in list.iter().enumerate() {
+                beside[v as usize] = [k.checked_sub(1).map(|j| list[j]), list.get(k + 1).copied()];
+            }
+        }
+        let gap = rails.curves.iter().zip(&order).map(|(line, list)| GAP * line.length() / (list.len() + 1) as f64).collect();
+        Slides { rails, on, beside, gap }
+    }
+
+    /// Whether vertex `v` slides on a curve.
+    pub fn slides(&self, v: usize) -> bool {
+        self.on[v].is_some()
+    }
+
+    /// Vertex `v`'s curve, where it is along it, and where its neighbours there are.
+    fn span(&self, v: usize) -> Option<(&'a Polyline, u32, f64, f64, f64)> {
+        let (c, s) = self.on[v]?;
+        let line = &self.rails.curves[c as usize];
+        let arc = |w: Option<u32>, end: f64| w.and_then(|w| self.on[w as usize]).map_or(end, |r| r.1);
+        let [before, after] = self.beside[v];
+        Some((line, c, s, arc(before, 0.0), arc(after, line.length())))
+    }
+
+    /// The direction of vertex `v`'s curve where it is.
+    pub fn tangent(&self, v: usize) -> Option<Vec3> {
+        self.span(v).map(|(line, _, s, _, _)| line.tangent(s))
+    }
+
+    /// Where a move of vertex `v` toward `target` lands on its curve, [`REACH`] and [`GAP`]
+    /// from its neighbours there, and its arc length.
+    pub fn land(&self, v: usize, target: Vec3) -> Option<(Vec3, f64)> {
+        let (line, c, s, lo, hi) = self.span(v)?;
+        let gap = self.gap[c as usize];
+        let (lo, hi) = ((s - REACH * (s - lo)).max(lo + gap).min(s), (s + REACH * (hi - s)).min(hi - gap).max(s));
+        let (arc, q) = line.nearest(target, lo, hi);
+        Some((q, arc))
+    }
+
+    /// How far the curve strays from the chords to vertex `v`'s neighbours there with `v` at
+    /// arc length `arc` ([`Polyline::chord_miss`]); 0 off rails.
+    pub fn chord_miss(&self, v: usize, arc: f64) -> f64 {
+        self.span(v).map_or(0.0, |(line, _, _, lo, hi)| line.chord_miss(lo, arc, hi))
+    }
+
+    /// Where vertex `v` is along its curve.
+    pub fn arc(&self, v: usize) -> Option<f64> {
+        self.on[v].map(|r| r.1)
+    }
+
+    /// Vertex `v` moved to arc length `arc` along its curve.
+    pub fn moved(&mut self, v: usize, arc: f64) {
+        if let Some(r) = &mut self.on[v] {
+            r.1 = arc;
+        }
     }
 }
 

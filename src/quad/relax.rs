@@ -27,7 +27,7 @@
 //! unfolds quads.
 
 use super::closest::{closest_point_on_triangle, TriangleTree};
-use super::rails::Rails;
+use super::rails::{Rails, Slides};
 use super::rectify::Rectify;
 use super::quality::{corner_angle_deviations, pseudo_normal, quad_centre, quad_normal, scaled_jacobian};
 use super::QuadMesh;
@@ -58,14 +58,6 @@ const DAMPING: f64 = 0.5;
 /// skew, each tried: long enough to square a corner a neighbour's move left skewed, and
 /// shorter where the skew turns up again within the longer step.
 const DESCENT_STEPS: [f64; 3] = [0.2, 0.07, 0.02];
-/// A vertex sliding on its curve moves at most this share of the way to its neighbour there
-/// in one round...
-const RAIL_REACH: f64 = 0.5;
-/// ... and comes no nearer to it than this share of the curve's mean spacing of samples: the
-/// reach alone lets a vertex creep up on its neighbour round by round, and on CGAL's boeing
-/// two samples met, leaving a quad of three corners on a line.
-const RAIL_GAP: f64 = 0.25;
-
 /// Half the span of the central differences of the skew's slope, as a share of the mean edge
 /// length: far below the steps.
 const SLOPE_SPAN: f64 = 1e-3;
@@ -446,22 +438,13 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], rails: &R
     let mut moves = 0u64;
     let mut moved_at = vec![0u64; n];
     let mut refused_at: Vec<Option<u64>> = vec![None; n];
-    // Pinned samples of tagged curves that slide along them: each between its neighbours
-    // along the curve (it never passes them), and where it is along it.
-    let mut on_rail: Vec<Option<(u32, f64)>> = (0..n).map(|v| rails.on.get(v).copied().flatten()).collect();
-    let order = rails.in_order();
-    let mut beside: Vec<[Option<u32>; 2]> = vec![[None; 2]; n];
-    for list in &order {
-        for (k, &v) in list.iter().enumerate() {
-            beside[v as usize] = [k.checked_sub(1).map(|j| list[j]), list.get(k + 1).copied()];
-        }
-    }
-    let rail_gap: Vec<f64> = rails.curves.iter().zip(&order).map(|(line, list)| RAIL_GAP * line.length() / (list.len() + 1) as f64).collect();
+    // The pinned samples of tagged curves that slide along them.
+    let mut slides = Slides::new(rails, n);
     for round in 0..rounds {
         let power = if (round as f64) < SQUARED_SHARE * rounds as f64 { 2.0 } else { SKEW_POWER };
         for v in 0..n {
-            let rail = on_rail[v];
-            if (pinned[v] && rail.is_none()) || neighbours[v].is_empty() {
+            let rail = slides.slides(v);
+            if (pinned[v] && !rail) || neighbours[v].is_empty() {
                 continue;
             }
             let around = &incident[v];
@@ -510,37 +493,23 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], rails: &R
                 positions[v] = p;
                 s
             };
-            if let (Some((c, s)), true) = (rail, squared[v]) {
+            if let (Some(t), true) = (slides.tangent(v), squared[v]) {
                 // Along the curve, both ways: one direction, so no slope to find.
-                let t = rails.curves[c as usize].tangent(s);
                 tried.extend(DESCENT_STEPS.iter().flat_map(|&share| [add(p, scale(share * length, t)), sub(p, scale(share * length, t))]));
-            } else if squared[v] && rail.is_none() {
+            } else if squared[v] && !rail {
                 if let Some(down) = steepest_descent(p, nv, SLOPE_SPAN * length, |x| skew_at(x, &mut quads.positions)) {
                     tried.extend(DESCENT_STEPS.map(|share| add(p, scale(share * length, down))));
                 }
             }
-            // A vertex sliding on its curve: its curve, where it is along it, and where its
-            // neighbours there are.
-            let span = rail.map(|(c, s)| {
-                let arc = |w: Option<u32>, end: f64| w.and_then(|w| on_rail[w as usize]).map_or(end, |r| r.1);
-                let [before, after] = beside[v];
-                (&rails.curves[c as usize], c, s, arc(before, 0.0), arc(after, rails.curves[c as usize].length()))
-            });
-            // Its quads' edges along the curve are chords: they may cut a bend of it only as deep
-            // as they did, and [`COVER`] of an edge more.
-            let missed = span.map_or(0.0, |(line, _, s, lo, hi)| line.chord_miss(lo, s, hi));
-            let cuts_no_bend = |arc: f64| span.is_none_or(|(line, _, _, lo, hi)| line.chord_miss(lo, arc, hi) <= missed + COVER * length);
-            // Where a move lands: on the surface at the nearest point (a nearest point far from
-            // the step's end is another sheet of the surface), or on the vertex's curve between
-            // its neighbours there ([`RAIL_REACH`], [`RAIL_GAP`]), keeping its normal.
-            let limits = span.map(|(_, c, s, lo, hi)| {
-                let gap = rail_gap[c as usize];
-                (c, (s - RAIL_REACH * (s - lo)).max(lo + gap).min(s), (s + RAIL_REACH * (hi - s)).min(hi - gap).max(s))
-            });
+            // A vertex on a curve lands on it, keeping its normal ([`Slides::land`]); its quads'
+            // edges along the curve are chords, which may cut a bend of it only as deep as they
+            // did, and [`COVER`] of an edge more. Another lands on the surface at the nearest
+            // point (a nearest point far from the step's end is another sheet of the surface).
+            let missed = slides.arc(v).map_or(0.0, |s| slides.chord_miss(v, s));
+            let cuts_no_bend = |arc: f64| !rail || slides.chord_miss(v, arc) <= missed + COVER * length;
             let mut land = |target: Vec3| -> Option<(Vec3, Vec3, f64)> {
-                if let Some((c, lo, hi)) = limits {
-                    let (s, q) = rails.curves[c as usize].nearest(target, lo, hi);
-                    return Some((q, nv, s));
+                if rail {
+                    return slides.land(v, target).map(|(q, arc)| (q, nv, arc));
                 }
                 let step = norm(sub(target, p));
                 surface.project(target, &mut vertex_leaf[v]).filter(|(q, _)| norm(sub(*q, target)) <= step).map(|(q, n)| (q, n, 0.0))
@@ -590,9 +559,7 @@ pub fn relax(quads: &mut QuadMesh, surface: &Surface, pinned: &[bool], rails: &R
             if let Some(Move { at, normal, arc, shapes, .. }) = best {
                 quads.positions[v] = at;
                 normals[v] = normal;
-                if let Some((c, _)) = rail {
-                    on_rail[v] = Some((c, arc));
-                }
+                slides.moved(v, arc);
                 for (&i, shape) in around.iter().zip(shapes) {
                     now[i as usize] = shape;
                 }
