@@ -79,12 +79,19 @@ pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
 
 /// The point of segment `[a, b]` closest to `p`.
 fn closest_point_on_segment(p: Vec3, a: Vec3, b: Vec3) -> Vec3 {
+    nearest_on_segment(p, a, b).1
+}
+
+/// The point of segment `[a, b]` closest to `p`, and where it is along the segment (0 at `a`,
+/// 1 at `b`; 0 on a segment of no length).
+pub fn nearest_on_segment(p: Vec3, a: Vec3, b: Vec3) -> (f64, Vec3) {
     let ab = sub(b, a);
     let len2 = dot(ab, ab);
     if len2 > 0.0 {
-        along(a, ab, (dot(sub(p, a), ab) / len2).clamp(0.0, 1.0))
+        let t = (dot(sub(p, a), ab) / len2).clamp(0.0, 1.0);
+        (t, along(a, ab, t))
     } else {
-        a
+        (0.0, a)
     }
 }
 

@@ -9,7 +9,8 @@
 //! others 5.2°). A sample that slides along its curve keeps the edge loop the user asked for,
 //! exactly on the curve, and lets the grid line meet it square.
 
-use crate::geom::{add, dot, norm, scale, sub, Vec3};
+use super::closest::nearest_on_segment;
+use crate::geom::{add, norm, scale, sub, Vec3};
 
 /// A curve on the surface: its points in order and the arc length at each.
 #[derive(Debug, Clone, Default)]
@@ -56,11 +57,7 @@ impl Polyline {
         let mut best = (f64::INFINITY, lo, self.point(lo));
         for k in first..=last {
             let (a, b) = (self.at[k].max(lo), self.at[k + 1].min(hi));
-            let (pa, pb) = (self.on_segment(k, a), self.on_segment(k, b));
-            let d = sub(pb, pa);
-            let dd = dot(d, d);
-            let t = if dd > 0.0 { (dot(sub(p, pa), d) / dd).clamp(0.0, 1.0) } else { 0.0 };
-            let q = add(pa, scale(t, d));
+            let (t, q) = nearest_on_segment(p, self.on_segment(k, a), self.on_segment(k, b));
             let dist = norm(sub(p, q));
             if dist < best.0 {
                 best = (dist, a + t * (b - a), q);
@@ -78,10 +75,7 @@ impl Polyline {
         (first..last)
             .map(|k| {
                 let (p, (x, y)) = (self.points[k], if self.at[k] <= mid { (a, m) } else { (m, b) });
-                let d = sub(y, x);
-                let dd = dot(d, d);
-                let t = if dd > 0.0 { (dot(sub(p, x), d) / dd).clamp(0.0, 1.0) } else { 0.0 };
-                norm(sub(p, add(x, scale(t, d))))
+                norm(sub(p, nearest_on_segment(p, x, y).1))
             })
             .fold(0.0, f64::max)
     }
