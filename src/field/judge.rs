@@ -76,7 +76,9 @@ const RELAX_ROUNDS: usize = 3;
 /// as much, and is not what the user asked for.
 const COUNT_SLACK: f64 = 0.15;
 
-/// Global steps toward rectangles of the quads judged ([`crate::quad::rectify`]): none.
+/// Global steps toward rectangles of the quads judged ([`crate::quad::rectify`]): none. Nor do
+/// the samples of tagged curves slide, nor do the quads cover the tips ([`crate::quad::cover`]):
+/// both mend a few vertices of any layout, and cost time the ranking does not need.
 const RECTIFY_STEPS: usize = 0;
 
 /// The quads of `layout` at `edge_length`, measured; `None` where the remesh fails (as
@@ -88,7 +90,7 @@ pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Ju
         param.step().ok()?;
     }
     param.finish().ok()?;
-    let quad_options = QuadOptions { relax_rounds: RELAX_ROUNDS, rectify_steps: RECTIFY_STEPS, slide_on_curves: false, ..QuadOptions::with_edge_length(edge_length) };
+    let quad_options = QuadOptions { relax_rounds: RELAX_ROUNDS, rectify_steps: RECTIFY_STEPS, slide_on_curves: false, cover_tips: false, ..QuadOptions::with_edge_length(edge_length) };
     let (quads, _) = extract(layout, &param, &quad_options).ok()?;
     check_reads_back(&quads).ok()?;
     let q = measure(mesh, &quads);

@@ -26,7 +26,8 @@
 //! would fold a quad is taken back, and so is one that turns a corner inside out unless it
 //! unfolds quads.
 
-use super::closest::{closest_point_on_triangle, TriangleTree};
+use super::closest::TriangleTree;
+use super::cover::nearest_quad;
 use super::rails::{Rails, Slides};
 use super::rectify::Rectify;
 use super::quality::{corner_angle_deviations, pseudo_normal, quad_centre, quad_normal, scaled_jacobian};
@@ -95,7 +96,7 @@ impl Surface {
 
     /// The surface's pseudo-normal at the point nearest to `p` (as [`super::quality`] counts
     /// folded quads); `leaf` as [`TriangleTree::closest_from`] takes it.
-    fn facing(&self, p: Vec3, leaf: &mut u32) -> Option<Vec3> {
+    pub(super) fn facing(&self, p: Vec3, leaf: &mut u32) -> Option<Vec3> {
         let hit = self.tree.closest_from(p, leaf)?;
         let round = |v: u32| &self.round[self.start[v as usize] as usize..self.start[v as usize + 1] as usize];
         let around = || self.indices[hit.triangle as usize].iter().flat_map(|&v| round(v).iter().map(|&c| c / 3)).collect();
@@ -118,6 +119,18 @@ impl Surface {
         })
     }
 
+    /// Points of the surface as the quality measures its distance from the quads: its
+    /// vertices and its triangles' centroids.
+    pub(super) fn samples(&self) -> Vec<Vec3> {
+        let n = self.start.len() - 1;
+        let mut vertex = vec![None; n];
+        for (t, c) in self.indices.iter().zip(&self.triangles) {
+            t.iter().zip(c).for_each(|(&v, &p)| vertex[v as usize] = Some(p));
+        }
+        let centroids = self.triangles.iter().map(|[a, b, c]| std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0));
+        vertex.into_iter().flatten().chain(centroids).collect()
+    }
+
     /// The nearest surface point to `p` and the unit normal of its triangle; `leaf` as
     /// [`TriangleTree::closest_from`] takes it.
     pub(super) fn project(&self, p: Vec3, leaf: &mut u32) -> Option<(Vec3, Vec3)> {
@@ -131,17 +144,17 @@ impl Surface {
 
 /// What the relaxation must not make worse in a quad.
 #[derive(Debug, Clone, Copy)]
-struct QuadState {
+pub(super) struct QuadState {
     /// Every corner turns the same way as the surface (convex seen from outside).
-    convex: bool,
+    pub(super) convex: bool,
     /// The quad's normal (the cross product of its diagonals) points against the surface's
     /// nearest to its centre (as [`super::quality`] counts folded quads).
-    flipped: bool,
+    pub(super) flipped: bool,
 }
 
 /// The shape of quad `q` at positions `p`: `normals` are the surface normals at its corners,
 /// `surface` finds the one nearest its centre (starting in `leaf`).
-fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mut u32) -> QuadState {
+pub(super) fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mut u32) -> QuadState {
     let c = q.map(|v| p[v as usize]);
     let convex = (0..4).all(|k| {
         let (a, b, d) = (c[(k + 3) % 4], c[k], c[(k + 1) % 4]);
@@ -155,7 +168,7 @@ fn shape(p: &[Vec3], q: [u32; 4], normals: &[Vec3], surface: &Surface, leaf: &mu
 
 /// The points of a quad whose distance from the surface stands for the quad's: its centre and
 /// its edge midpoints.
-fn probes(p: &[Vec3], q: [u32; 4]) -> [Vec3; 5] {
+pub(super) fn probes(p: &[Vec3], q: [u32; 4]) -> [Vec3; 5] {
     let c = q.map(|v| p[v as usize]);
     let mid = |a: Vec3, b: Vec3| scale(0.5, add(a, b));
     [mid(mid(c[0], c[2]), mid(c[1], c[3])), mid(c[0], c[1]), mid(c[1], c[2]), mid(c[2], c[3]), mid(c[3], c[0])]
@@ -163,7 +176,7 @@ fn probes(p: &[Vec3], q: [u32; 4]) -> [Vec3; 5] {
 
 /// The sum over the corners of quad `q` of |corner angle − 90°| to the power `power`, in
 /// degrees.
-fn skew(p: &[Vec3], q: [u32; 4], power: f64) -> f64 {
+pub(super) fn skew(p: &[Vec3], q: [u32; 4], power: f64) -> f64 {
     corner_angle_deviations(&q.map(|v| p[v as usize])).iter().map(|&d| to_power(d, power)).sum()
 }
 
@@ -198,7 +211,7 @@ const SKEW_POWER: f64 = 1.5;
 const SQUARED_SHARE: f64 = 0.4;
 
 /// The mean length of a quad's edges.
-fn size(p: &[Vec3], q: [u32; 4]) -> f64 {
+pub(super) fn size(p: &[Vec3], q: [u32; 4]) -> f64 {
     (0..4).map(|k| norm(sub(p[q[(k + 1) % 4] as usize], p[q[k] as usize]))).sum::<f64>() / 4.0
 }
 
@@ -207,7 +220,7 @@ fn size(p: &[Vec3], q: [u32; 4]) -> f64 {
 const STRAY: f64 = 0.1;
 
 /// Whether a quad keeps the shape it had `before`.
-fn keeps(before: &QuadState, now: &QuadState) -> bool {
+pub(super) fn keeps(before: &QuadState, now: &QuadState) -> bool {
     (now.convex || !before.convex) && (!now.flipped || before.flipped)
 }
 
@@ -242,17 +255,8 @@ const COVER: f64 = 0.02;
 /// The distance from `x` to the nearest of the quads `around` at `positions`, and their mean
 /// edge length.
 fn miss(positions: &[Vec3], quads: &[[u32; 4]], around: &[u32], x: Vec3) -> (f64, f64) {
-    let mut mean = 0.0;
-    let mut nearest = f64::INFINITY;
-    for &i in around {
-        let q = quads[i as usize];
-        let c = q.map(|v| positions[v as usize]);
-        mean += size(positions, q) / around.len() as f64;
-        for [a, b, d] in [[c[0], c[1], c[2]], [c[0], c[2], c[3]]] {
-            nearest = nearest.min(norm(sub(closest_point_on_triangle(x, a, b, d), x)));
-        }
-    }
-    (nearest, mean)
+    let mean = around.iter().fold(0.0, |m, &i| m + size(positions, quads[i as usize]) / around.len() as f64);
+    (nearest_quad(positions, quads, around.iter().copied(), x).0, mean)
 }
 
 /// Whether vertex `v`'s quads `around` at `positions` still cover where it was (`anchor`):
