@@ -73,16 +73,23 @@ pub fn cover(quads: &mut QuadMesh, surface: &Surface, fixed: &[bool]) -> usize {
     let mut leaf = 0;
     let mut normals: Vec<Vec3> = quads.positions.iter().map(|&p| surface.project(p, &mut leaf).map_or([0.0; 3], |(_, n)| n)).collect();
     let mut moved = vec![false; n];
+    let mut miss: Vec<(f64, u32)> = vec![(0.0, u32::MAX); points.len()];
+    // The points whose distance is looked up again: all at first; then those nearest a quad
+    // that moved or its neighbours, and those that missed by more than [`TIP`].
+    let mut stale = vec![true; points.len()];
     for _ in 0..ROUNDS {
         let tree = TriangleTree::new(quads.quads.iter().flat_map(|q| {
             let c = q.map(|v| quads.positions[v as usize]);
             [[c[0], c[1], c[2]], [c[0], c[2], c[3]]]
         }));
-        // Each point's distance and nearest quad, and the points nearest each quad.
-        let miss: Vec<(f64, u32)> = points
-            .iter()
-            .map(|&p| tree.closest_from(p, &mut leaf).map_or((0.0, u32::MAX), |hit| (hit.distance_squared.sqrt(), hit.triangle / 2)))
-            .collect();
+        // Each point's distance and nearest quad, found again where it may have changed; the
+        // others keep theirs, which bound their distance still (their nearest quad did not
+        // move, and a quad that moved can only have come nearer).
+        for (m, (&p, again)) in miss.iter_mut().zip(points.iter().zip(&stale)) {
+            if *again {
+                *m = tree.closest_from(p, &mut leaf).map_or((0.0, u32::MAX), |hit| (hit.distance_squared.sqrt(), hit.triangle / 2));
+            }
+        }
         let mut nearest_to: Vec<Vec<u32>> = vec![Vec::new(); quads.quads.len()];
         for (i, &(_, q)) in miss.iter().enumerate() {
             if let Some(list) = nearest_to.get_mut(q as usize) {
@@ -147,6 +154,9 @@ pub fn cover(quads: &mut QuadMesh, surface: &Surface, fixed: &[bool]) -> usize {
         }
         if moves == 0 {
             break;
+        }
+        for (again, &(d, q)) in stale.iter_mut().zip(&miss) {
+            *again = touched.get(q as usize).is_some_and(|&t| t || d > TIP * size(&quads.positions, quads.quads[q as usize]));
         }
     }
     moved.iter().filter(|&&m| m).count()
