@@ -5,13 +5,13 @@
 //! the next spot misses by 1.05 %. Moving the nearest free corner of the quad that misses
 //! onto the point covers it, and costs the angles of its quads.
 //!
-//! Rounds, each from exact distances: the surface's points farthest from the quads first, each
-//! one that misses by more than [`TIP`] of an edge gets the move of a corner of its nearest
-//! quad that leaves every point near those quads, and their probes, nearer than it was by
-//! [`GAIN`]; the first one no move covers is as near as the quads come, and the round ends
-//! there (moving others would cost angles for no lower maximum). The samples of tagged curves
-//! and the boundary stay (they are the edge loops asked for); the nodes may move, as in the
-//! relaxation.
+//! Rounds, each from the distances as the last one left them: the surface's points farthest
+//! from the quads first, each one that misses by more than [`TIP`] of an edge gets the move of
+//! a corner of its nearest quad that leaves every point near those quads, and their probes,
+//! nearer than it was by [`GAIN`]; the first one no move covers is as near as the quads come,
+//! and the round ends there (moving others would cost angles for no lower maximum). The
+//! samples of tagged curves and the boundary stay (they are the edge loops asked for); the
+//! other nodes may move, as in the relaxation.
 //!
 //! At --quads 4000 on the automatic layouts of 29 of CGAL's meshes never used in tuning, the
 //! geometric-mean Hausdorff distance fell from 0.971 to 0.876 % and the mean angle deviation
@@ -24,8 +24,8 @@ use super::relax::{keeps, probes, shape, size, skew, QuadState, Surface};
 use super::QuadMesh;
 use crate::geom::{add, norm, scale, sub, Vec3};
 
-/// Rounds of exact distances at most; each moves the vertices of quads no earlier move of the
-/// round touched.
+/// Rounds at most; each moves the vertices of quads no earlier move of the round touched (the
+/// distances near those are found again for the next).
 const ROUNDS: usize = 4;
 /// A move must bring the point it covers, and every point and probe near the quads it moves,
 /// nearer than this share of the point's distance: less is churn.
@@ -165,7 +165,7 @@ pub fn cover(quads: &mut QuadMesh, surface: &Surface, fixed: &[bool]) -> usize {
 /// With vertex `v` moved to `target` (surface normal `normal`): the largest distance from a
 /// point nearest one of its quads to the quads round them, and from a probe of its quads to
 /// the surface (infinite where a quad of `v` would fold, turn a corner inside out or come
-/// come flatter than [`FLAT`]); and its quads' skew (of the moves that cover a point, the one
+/// flatter than [`FLAT`]); and its quads' skew (of the moves that cover a point, the one
 /// that skews them least is taken).
 #[allow(clippy::too_many_arguments)]
 fn after_move(
