@@ -146,10 +146,10 @@ impl Surface {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct QuadState {
     /// Every corner turns the same way as the surface (convex seen from outside).
-    pub(super) convex: bool,
+    convex: bool,
     /// The quad's normal (the cross product of its diagonals) points against the surface's
     /// nearest to its centre (as [`super::quality`] counts folded quads).
-    pub(super) flipped: bool,
+    flipped: bool,
 }
 
 /// The shape of quad `q` at positions `p`: `normals` are the surface normals at its corners,
