@@ -19,7 +19,7 @@
 //! lion 1.63 → 1.14 %, pig 1.79 → 1.17 %); the others are unchanged.
 
 use super::closest::{closest_point_on_triangle, TriangleTree};
-use super::quality::scaled_jacobian;
+use super::quality::{quad_triangles, scaled_jacobian};
 use super::relax::{keeps, probes, shape, size, skew, QuadState, Surface};
 use super::QuadMesh;
 use crate::geom::{add, norm, scale, sub, Vec3};
@@ -49,8 +49,7 @@ const TIP: f64 = 0.1;
 pub(super) fn nearest_quad(positions: &[Vec3], quads: &[[u32; 4]], ids: impl IntoIterator<Item = u32>, x: Vec3) -> (f64, u32) {
     let mut best = (f64::INFINITY, u32::MAX);
     for i in ids {
-        let c = quads[i as usize].map(|v| positions[v as usize]);
-        for [a, b, d] in [[c[0], c[1], c[2]], [c[0], c[2], c[3]]] {
+        for [a, b, d] in quad_triangles(quads[i as usize].map(|v| positions[v as usize])) {
             let distance = norm(sub(closest_point_on_triangle(x, a, b, d), x));
             if distance < best.0 {
                 best = (distance, i);
@@ -78,10 +77,7 @@ pub fn cover(quads: &mut QuadMesh, surface: &Surface, fixed: &[bool]) -> usize {
     // that moved or its neighbours, and those that missed by more than [`TIP`].
     let mut stale = vec![true; points.len()];
     for _ in 0..ROUNDS {
-        let tree = TriangleTree::new(quads.quads.iter().flat_map(|q| {
-            let c = q.map(|v| quads.positions[v as usize]);
-            [[c[0], c[1], c[2]], [c[0], c[2], c[3]]]
-        }));
+        let tree = TriangleTree::new(quads.quads.iter().flat_map(|q| quad_triangles(q.map(|v| quads.positions[v as usize]))));
         // Each point's distance and nearest quad, found again where it may have changed; the
         // others keep theirs, which bound their distance still (their nearest quad did not
         // move, and a quad that moved can only have come nearer).

@@ -123,7 +123,7 @@ pub fn measure(input: &Mesh, quads: &QuadMesh) -> Quality {
             corners
                 .iter()
                 .flatten()
-                .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]),
+                .flat_map(|&q| quad_triangles(q)),
         );
         let (to, to_at) = farthest(&input_tree, quad_samples(quads, &edges, &corners));
         let (from, from_at) = farthest(&quad_tree, input_samples(input));
@@ -305,6 +305,12 @@ pub(super) fn corner_angle_deviations(q: &[Vec3; 4]) -> [f64; 4] {
 /// product of the two lines joining opposite edge midpoints).
 pub(super) fn quad_normal(q: &[Vec3; 4]) -> Vec3 {
     cross(sub(q[2], q[0]), sub(q[3], q[1]))
+}
+
+/// The two triangles of a quad on either side of its diagonal 0–2, as its distances to the
+/// input are measured (and as the readers split it).
+pub(super) fn quad_triangles([a, b, c, d]: [Vec3; 4]) -> [[Vec3; 3]; 2] {
+    [[a, b, c], [a, c, d]]
 }
 
 /// The mean of the quad's corners.
