@@ -4,10 +4,10 @@
 // returns the previous layout). It also switches the field view (field-view.js) on and off.
 //
 // The core makes one proposal per tracing (along the field, along the iso-lines of its two
-// seamless parameterizations, and along two fields in smoothed frames) and keeps the best.
-// With more than one processor they are made at once in WORKERS workers (the last two only
-// where none of the first three holds the surface): helper workers beside the page's load the
-// mesh too, and the core picks the one it would have kept (the same layout as one request
+// seamless parameterizations, along the smoothest field and along two fields in smoothed
+// frames) and keeps the best. With more than one processor they are made at once in WORKERS
+// workers (the last three only where none of the first three holds the surface): helper
+// workers beside the page's load the mesh too, and the core picks the one it would have kept (the same layout as one request
 // makes). The progress line counts the seconds, and Cancel stops the helpers and restarts the
 // page's worker (it gets the mesh and the placed layout again), as the solve's Cancel does for
 // a long step.
@@ -29,7 +29,7 @@ import { parseDoc } from './layout-doc.js';
 const DEFAULT_FEATURE_ANGLE = 35;
 /**
  * The workers a proposal runs in where there is more than one processor, each making the
- * tracings j, j + WORKERS, … of the core's five. Three on two processors beat two (measured
+ * tracings j, j + WORKERS, … of the core's six. Three on two processors beat two (measured
  * when the core had three tracings, bunny_28k in headless Chromium on two cores: 26.2 s in
  * one worker, 22.0 s in two, 19.7 s in three); each worker holds the mesh, so no more.
  */

@@ -2,10 +2,11 @@
 //! the edge length they will be made at (the default one where that is not known), and
 //! measured against the surface.
 //!
-//! The automatic layout is proposed five times: its traces along the cross field, along the
+//! The automatic layout is proposed six times: its traces along the cross field, along the
 //! iso-lines of the field's seamless parameterization ([`super::seamless`]), along those of
-//! the parameterization that asks for the scale its solve before took, and along two fields
-//! in frames whose normals are smoothed (`SMOOTHINGS` in [`super::propose`]). None wins
+//! the parameterization that asks for the scale its solve before took, along the smoothest
+//! field (no curvature guide: [`super::compute_unguided_field`]), and along two fields in
+//! frames whose normals are smoothed (`SMOOTHINGS` in [`super::propose`]). None wins
 //! everywhere. Iso-lines give faces whose opposite sides agree, so the sample counts stretch
 //! no strip of quads: eight's Hausdorff distance at 4000 quads falls from 5.3 to 1.3 % of the
 //! diagonal, mushroom's from 0.97 to 0.62 %, bunny_1k8's from 2.6 to 1.3 %. But where the

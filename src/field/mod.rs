@@ -136,7 +136,18 @@ pub fn diagonal(mesh: &Mesh) -> f64 {
 /// # Errors
 /// [`SolveError`] if the sparse factorization fails (a degenerate mesh).
 pub fn compute_field(mesh: &Mesh, feature_angle_deg: f64) -> Result<CrossField, SolveError> {
-    field_in(mesh, Frames::new(mesh), find_features(mesh, feature_angle_deg))
+    field_in(mesh, Frames::new(mesh), find_features(mesh, feature_angle_deg), Guide::Curvature)
+}
+
+/// The smoothest cross field with `features` (its own, found once) and the boundary as its
+/// only constraints: [`compute_field`] without the principal-curvature guide. Where the
+/// curvature directions are noise at the scale of the quads (a scan's bumps, the wavy blend
+/// of a CAD part), the guided field bends with them and its layout with it.
+///
+/// # Errors
+/// [`SolveError`] if the sparse factorization fails (a degenerate mesh).
+pub fn compute_unguided_field(mesh: &Mesh, features: Features) -> Result<CrossField, SolveError> {
+    field_in(mesh, Frames::new(mesh), features, Guide::None)
 }
 
 /// [`compute_field`] with `features` (its own, found once) in frames whose normals are
@@ -147,13 +158,25 @@ pub fn compute_field(mesh: &Mesh, feature_angle_deg: f64) -> Result<CrossField, 
 /// # Errors
 /// [`SolveError`] if a sparse factorization fails (a degenerate mesh).
 pub fn compute_smoothed_field(mesh: &Mesh, features: Features, smoothing: f64) -> Result<CrossField, SolveError> {
-    field_in(mesh, Frames::smoothed(mesh, smoothing * diagonal(mesh), &features.sharp)?, features)
+    field_in(mesh, Frames::smoothed(mesh, smoothing * diagonal(mesh), &features.sharp)?, features, Guide::Curvature)
 }
 
-/// The cross field in `frames` with `features` as constraints.
-fn field_in(mesh: &Mesh, frames: Frames, features: Features) -> Result<CrossField, SolveError> {
+/// What steers a cross field besides its constraints.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Guide {
+    /// Principal curvature directions where the surface is clearly anisotropic.
+    Curvature,
+    /// Nothing: the smoothest field.
+    None,
+}
+
+/// The cross field in `frames` with `features` as constraints, steered by `guide`.
+fn field_in(mesh: &Mesh, frames: Frames, features: Features, guide: Guide) -> Result<CrossField, SolveError> {
     let diag = diagonal(mesh);
-    let guide = curvature::curvature_guide(mesh, &frames, diag);
+    let guide = match guide {
+        Guide::Curvature => curvature::curvature_guide(mesh, &frames, diag),
+        Guide::None => vec![Complex::ZERO; mesh.n_vertices()],
+    };
     let fixed = line_constraints(mesh, &frames, &features);
     let z = cross::cross_field(mesh, &frames, &guide, &fixed, diag)?;
     let singularities = singularities(mesh, &frames, &z);
@@ -208,6 +231,40 @@ pub(crate) mod tests {
             let r = p.iter().map(|&x| (x as f64).powi(2)).sum::<f64>().sqrt();
             assert!((r - 1.0).abs() < 0.05, "{p:?}");
         }
+    }
+
+    /// A saddle `z = c x y` over the square [-1, 1]², an n×n grid: its sides are straight,
+    /// its principal directions at the centre are the diagonals x = ±y.
+    fn saddle(n: u32, c: f64) -> Mesh {
+        let at = |k: u32| 2.0 * k as f64 / n as f64 - 1.0;
+        let positions = (0..=n).flat_map(|j| (0..=n).map(move |i| [at(i), at(j), c * at(i) * at(j)])).collect();
+        let triangles = crate::mesh::primitives::grid_triangles(n);
+        build_mesh(TriangleSoup { positions, triangles, ..Default::default() }).unwrap().mesh
+    }
+
+    /// How far (degrees) the cross at `v` turns from the x and y axes, seen from above.
+    fn off_axes(f: &CrossField, v: u32) -> f64 {
+        let [x, y, _] = f.arms(v)[0];
+        let a = y.atan2(x).to_degrees().rem_euclid(90.0);
+        a.min(90.0 - a)
+    }
+
+    /// The guided field turns toward a saddle's principal directions in its middle; the
+    /// smoothest field keeps to the directions of its sides. (On a torus the smoothest field
+    /// is not the principal one, which turns against parallel transport along the parallels:
+    /// it has 12 singularities on `torus(48, 16, 1.0, 0.35)`.)
+    #[test]
+    fn the_unguided_field_follows_the_boundary_where_the_guided_one_follows_the_curvature() {
+        let n = 24;
+        let m = saddle(n, 1.0);
+        let centre = (n / 2) * (n + 1) + n / 2;
+        let guided = compute_field(&m, DEFAULT_FEATURE_ANGLE).unwrap();
+        let smoothest = compute_unguided_field(&m, find_features(&m, DEFAULT_FEATURE_ANGLE)).unwrap();
+        let (g, u) = (off_axes(&guided, centre), off_axes(&smoothest, centre));
+        assert!(g > 40.0 && u < 1.0, "guided {g:.1}°, smoothest {u:.1}° off the axes");
+        // The guided field pays for its turn with singularities (8 here); the smoothest has none.
+        assert!(!guided.singularities.is_empty());
+        assert!(smoothest.singularities.is_empty(), "{:?}", smoothest.singularities);
     }
 
     #[test]

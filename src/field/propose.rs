@@ -9,10 +9,10 @@
 //!    a smooth region (tagged and kept like the lines, and continued again should a repair
 //!    take away what they ended on); they grow as a motorcycle graph of streamlines across
 //!    triangles, each kept as the vertex path nearest it ([`Motorcycles`]). The whole
-//!    proposal is made five times, the streamlines along the field, along the iso-lines of
-//!    its two seamless parameterizations ([`super::seamless`]) and along two fields in
-//!    smoothed frames ([`SMOOTHINGS`]), and the layout whose quads come out best is kept
-//!    ([`judge`]).
+//!    proposal is made six times, the streamlines along the field, along the iso-lines of
+//!    its two seamless parameterizations ([`super::seamless`]), along the smoothest field
+//!    ([`compute_unguided_field`]) and along two fields in smoothed frames ([`SMOOTHINGS`]),
+//!    and the layout whose quads come out best is kept ([`judge`]).
 //! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
 //!    not a disk (a ring round a limb, a handle, a sphere without singularities) gets a cross
 //!    of traces from its deepest vertex, and where a few rounds of those miss, shortest arcs
@@ -51,7 +51,7 @@ use super::slivers::merge_sides;
 use super::trace::{Motorcycles, TraceEnd, BLOCKED};
 use super::waypoints::sparse_waypoints;
 use super::features::Features;
-use super::{compute_field, compute_smoothed_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
+use super::{compute_field, compute_smoothed_field, compute_unguided_field, diagonal, CrossField, DEFAULT_FEATURE_ANGLE};
 use crate::layout::file::{EdgeSpec, PatchSpec};
 use crate::layout::embedding::Directed;
 use crate::layout::{curve, face_named_by, place, ChartType, CurveSource, Face, Layout, LayoutError, Location, MeshCounts, Numbering, Placement, SurfaceLayout, MAX_WAYPOINTS};
@@ -188,7 +188,7 @@ const MISSED_CURVES: usize = 3;
 /// refinement, CGAL's handle lost its layout to three faces at 20.
 const MERGE_TRIES: usize = 20;
 /// The most quads a proposal is judged by ([`judge`]): a remesh asked for millions would
-/// otherwise remesh each proposal at once at that size, five times the memory of the one run.
+/// otherwise remesh each proposal at once at that size, six times the memory of the one run.
 const JUDGE_QUADS: f64 = 20_000.0;
 /// A layout made without knowing its density (`quadlay layout`, the page's Suggest) is judged
 /// at this share of the default edge length: about four times the default remesh's quads
@@ -223,14 +223,18 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
 }
 
 /// The cross field and what the proposals' traces follow: the field itself, the iso-lines
-/// of its two seamless parameterizations (none where their factorization fails), and the
-/// fields in frames smoothed over each of [`SMOOTHINGS`] (none where the smoothing's
-/// factorization fails); the layout whose quads come out best is kept ([`judge`]).
+/// of its two seamless parameterizations (none where their factorization fails), the
+/// smoothest field of the same constraints ([`compute_unguided_field`]), and the fields in
+/// frames smoothed over each of [`SMOOTHINGS`] (none where a factorization fails); the
+/// layout whose quads come out best is kept ([`judge`]).
 pub struct Tracings {
     pub field: CrossField,
     /// The field and its two iso-line tracings, in that order; `None` where one could not be
     /// made.
     tracings: Vec<Option<CrossField>>,
+    /// The smoothest field ([`UNGUIDED`]), made when a proposal along it is first asked for
+    /// (most layouts need none: [`pick`]); `None` where it could not be made.
+    unguided: std::sync::OnceLock<Option<CrossField>>,
     /// The fields of [`SMOOTHINGS`], made when a proposal along one is first asked for (most
     /// layouts need none: [`pick`]); `None` where one could not be made.
     smoothed: [std::sync::OnceLock<Option<CrossField>>; SMOOTHINGS.len()],
@@ -240,6 +244,28 @@ pub struct Tracings {
 /// the others are made only where none of these holds the surface ([`pick`],
 /// [`Judged::holds`]).
 pub const PRIMARY_TRACINGS: usize = 3;
+
+/// The first of the other tracings ([`Tracings::candidate`] `PRIMARY_TRACINGS`): streamlines
+/// of the smoothest field, which has the surface's constraints but no curvature guide
+/// ([`compute_unguided_field`]). Where the principal directions are noise at the scale of
+/// the quads (a scan's bumps, the blends and fillets of a CAD part), the guided field bends
+/// with them, its singularities come in pairs, and its layout skews its quads; the smoothest
+/// field does not, but on a limb or a torus it is not the principal one and spirals. Neither
+/// wins everywhere; the judge tells which. `quadlay layout`, then `remesh --quads 4000`, on
+/// 29 of CGAL's meshes never used in tuning and 26 used (the seven shared ones among them):
+/// - made with the others (only where the first three do not hold the surface): mean angle
+///   deviation 7.46 → 7.33° and 7.35 → 7.16°, folded quads 80 → 62 and 50 → 49,
+///   geometric-mean Hausdorff distance 0.876 → 0.887 % and 1.205 → 1.206 %; kept on 9 of the
+///   55 (turbine 17.9 → 14.1° and 22 → 9 folded, lion-head 9.8 → 4.9°, pig's 4 folded quads
+///   none, but 1.2 → 2.1 % of the diagonal off);
+/// - always made, with the first three: 7.28° and 7.15°, 0.879 % and 1.185 % (bear 4.8 →
+///   3.3°, fandisk 0.42 → 0.30 %), but `quadlay layout` on bunny_28k took 1.32 times as long
+///   (paired runs) and the page's suggestion 1.3 times, for a layout it does not keep.
+///
+/// The smoothest field of every tracing instead (its iso-lines and smoothed frames too) is
+/// worse on the whole (untuned 0.876 → 1.031 %, knot 0.55 → 3.76 %), though best on 9 of the
+/// 29 (three_peaks 8.2 → 4.7°, triceratops 16.1 → 11.3°).
+const UNGUIDED: usize = PRIMARY_TRACINGS;
 
 /// One tracing's proposal, judged by its quads ([`Tracings::candidate`]).
 pub struct Candidate {
@@ -267,7 +293,7 @@ impl Tracings {
             Err(_) => vec![None, None],
         };
         let tracings = std::iter::once(Some(field.clone())).chain(isos).collect();
-        Ok(Tracings { field, tracings, smoothed: Default::default() })
+        Ok(Tracings { field, tracings, unguided: Default::default(), smoothed: Default::default() })
     }
 
     /// [`propose_layout`] with these tracings (made with `options`' feature angle): the
@@ -360,7 +386,7 @@ impl Tracings {
 
     /// How many proposals there are to make.
     pub fn count(&self) -> usize {
-        self.tracings.len() + SMOOTHINGS.len()
+        UNGUIDED + 1 + SMOOTHINGS.len()
     }
 
     /// The proposal along tracing `k` (below [`Tracings::count`]), judged: apart, the page
@@ -369,12 +395,12 @@ impl Tracings {
     /// # Errors
     /// [`ProposeError::NoValidLayout`] if the repairs cannot make a valid layout along it.
     pub fn candidate(&self, mesh: &Mesh, k: usize, options: &LayoutOptions) -> Result<Candidate, ProposeError> {
-        let field = match self.tracings.get(k) {
-            Some(field) => field,
-            None => {
-                let j = k - self.tracings.len();
-                self.smoothed[j].get_or_init(|| compute_smoothed_field(mesh, self.field.features.clone(), SMOOTHINGS[j]).ok())
-            }
+        let features = || self.field.features.clone();
+        let field = match k.checked_sub(UNGUIDED + 1) {
+            _ if k < UNGUIDED => &self.tracings[k],
+            None => self.unguided.get_or_init(|| compute_unguided_field(mesh, features()).ok()),
+            Some(j) if j < SMOOTHINGS.len() => self.smoothed[j].get_or_init(|| compute_smoothed_field(mesh, features(), SMOOTHINGS[j]).ok()),
+            Some(_) => return Err(ProposeError::NoValidLayout(format!("there are {} tracings, not {}", self.count(), k + 1))),
         };
         let Some(field) = field else {
             return Err(ProposeError::NoValidLayout("this tracing's field or parameterization could not be solved".into()));
@@ -1575,14 +1601,14 @@ mod tests {
     use super::*;
     use crate::layout::curve::tests::load;
 
-    /// The layout kept is the best of the five tracings' candidates by their quads
+    /// The layout kept is the best of the six tracings' candidates by their quads
     /// ([`pick`]).
     #[test]
     fn the_tracing_whose_quads_are_best_is_kept() {
         let mesh = load("eight.obj");
         let options = LayoutOptions::default();
         let tracings = Tracings::new(&mesh, &options).unwrap();
-        assert_eq!(tracings.count(), 5);
+        assert_eq!(tracings.count(), 6);
         let mut made: Vec<Candidate> = (0..tracings.count()).map(|k| tracings.candidate(&mesh, k, &options).unwrap()).collect();
         let kept = propose_layout(&mesh, &options).unwrap();
         let i = pick(&made.iter().map(|c| Some(c.summary())).collect::<Vec<_>>()).unwrap();
