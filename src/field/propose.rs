@@ -255,9 +255,12 @@ pub const PRIMARY_TRACINGS: usize = 3;
 /// 29 of CGAL's meshes never used in tuning and 26 used (the seven shared ones among them):
 /// - made with the others (only where the first three do not hold the surface): mean angle
 ///   deviation 7.46 → 7.33° and 7.35 → 7.16°, folded quads 80 → 62 and 50 → 49,
-///   geometric-mean Hausdorff distance 0.876 → 0.887 % and 1.205 → 1.206 %; kept on 9 of the
+///   geometric-mean Hausdorff distance 0.876 → 0.887 % and 1.205 → 1.206 %; kept on 5 of the
 ///   55 (turbine 17.9 → 14.1° and 22 → 9 folded, lion-head 9.8 → 4.9°, pig's 4 folded quads
-///   none, but 1.2 → 2.1 % of the diagonal off);
+///   none, but 1.2 → 2.1 % of the diagonal off). Where it is made it costs time: paired
+///   runs of `quadlay layout` took 1.10 times as long on bunny_1k8 and 1.70 times on
+///   elephant_44k, whose smoothest field's proposal (333 faces, not kept) took 28 s where
+///   the others took 11–16;
 /// - always made, with the first three: 7.28° and 7.15°, 0.879 % and 1.185 % (bear 4.8 →
 ///   3.3°, fandisk 0.42 → 0.30 %), but `quadlay layout` on bunny_28k took 1.32 times as long
 ///   (paired runs) and the page's suggestion 1.3 times, for a layout it does not keep.
