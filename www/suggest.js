@@ -7,10 +7,10 @@
 // seamless parameterizations, along the smoothest field and along two fields in smoothed
 // frames) and keeps the best. With more than one processor they are made at once in WORKERS
 // workers (the last three only where none of the first three holds the surface): helper
-// workers beside the page's load the mesh too, and the core picks the one it would have kept (the same layout as one request
-// makes). The progress line counts the seconds, and Cancel stops the helpers and restarts the
-// page's worker (it gets the mesh and the placed layout again), as the solve's Cancel does for
-// a long step.
+// workers beside the page's load the mesh too, and the core picks the one it would have kept
+// (the same layout as one request makes). The progress line counts the seconds, and Cancel
+// stops the helpers and restarts the page's worker (it gets the mesh and the placed layout
+// again), as the solve's Cancel does for a long step.
 //
 // Adds to `window.quadlay` (see main.js):
 //   suggestion  { state: 'idle'|'running'|'done'|'cancelled'|'error', error, seconds (in the

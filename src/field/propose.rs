@@ -399,11 +399,16 @@ impl Tracings {
     /// [`ProposeError::NoValidLayout`] if the repairs cannot make a valid layout along it.
     pub fn candidate(&self, mesh: &Mesh, k: usize, options: &LayoutOptions) -> Result<Candidate, ProposeError> {
         let features = || self.field.features.clone();
-        let field = match k.checked_sub(UNGUIDED + 1) {
-            _ if k < UNGUIDED => &self.tracings[k],
-            None => self.unguided.get_or_init(|| compute_unguided_field(mesh, features()).ok()),
-            Some(j) if j < SMOOTHINGS.len() => self.smoothed[j].get_or_init(|| compute_smoothed_field(mesh, features(), SMOOTHINGS[j]).ok()),
-            Some(_) => return Err(ProposeError::NoValidLayout(format!("there are {} tracings, not {}", self.count(), k + 1))),
+        let field = if k < UNGUIDED {
+            &self.tracings[k]
+        } else if k == UNGUIDED {
+            self.unguided.get_or_init(|| compute_unguided_field(mesh, features()).ok())
+        } else {
+            let j = k - UNGUIDED - 1;
+            let Some(cell) = self.smoothed.get(j) else {
+                return Err(ProposeError::NoValidLayout(format!("there are {} tracings, not {}", self.count(), k + 1)));
+            };
+            cell.get_or_init(|| compute_smoothed_field(mesh, features(), SMOOTHINGS[j]).ok())
         };
         let Some(field) = field else {
             return Err(ProposeError::NoValidLayout("this tracing's field or parameterization could not be solved".into()));
