@@ -211,7 +211,7 @@ fn divide_by_content(row: &mut Row) {
 const PASSES: usize = 16;
 /// Integers tried for a coordinate: up to this far from the nearest one.
 const WINDOW: i64 = 2;
-/// Choices kept to be taken back (each holds a copy of the QP's state, `2 k²` numbers).
+/// Choices kept to be taken back.
 const TRAIL: usize = 16;
 /// Choices taken back in one pass before the next pass starts with the dead end first.
 const BACKTRACKS: usize = 8;
@@ -246,14 +246,83 @@ fn round(start: &DualQp<'_>) -> Option<Vec<f64>> {
     None
 }
 
-/// A coordinate fixed at an integer: the state before (`None`: the coordinate was at that
-/// integer already, and the state after, with `j` free again, is the one before), and the
-/// integers not tried yet.
-struct Choice<'a> {
-    before: Option<DualQp<'a>>,
+/// A coordinate fixed at an integer, and the integers not tried yet.
+struct Choice {
     j: usize,
+    value: f64,
+    /// Whether the fixing moved the solution (a solve), or found the coordinate at that
+    /// integer already.
+    moved: bool,
     /// The farthest first (tried from the back).
     rest: Vec<f64>,
+}
+
+/// A copy of the QP's state is kept before every this many choices. A copy is `2 k²` numbers
+/// (16 MB on a layout with a hundred holes, `k` about a thousand), and copying one before
+/// every fixing that moves the solution was half the time of the rounding there; the choices
+/// since a copy are made again instead, only where a fixing fails or a choice is taken back
+/// (none of about 300 per rounding on CGAL's elephant-with-holes failed).
+const KEPT_EVERY: usize = 8;
+
+/// The choices of one pass of the rounding, and how to get the state before any of the last
+/// [`TRAIL`] back.
+struct Trail<'a> {
+    /// Every choice not taken back, in order.
+    made: Vec<Choice>,
+    /// The choices from this one on may be taken back (at most [`TRAIL`]).
+    floor: usize,
+    /// States before choice `.0` (increasing), the first at or before `floor`.
+    kept: Vec<(usize, DualQp<'a>)>,
+}
+
+impl<'a> Trail<'a> {
+    fn new(start: &DualQp<'a>) -> Self {
+        Trail { made: Vec::new(), floor: 0, kept: vec![(0, start.clone())] }
+    }
+
+    /// Records a choice just made, `qp` the state after it.
+    fn push(&mut self, choice: Choice, qp: &DualQp<'a>) {
+        self.made.push(choice);
+        if self.made.len() - self.floor > TRAIL {
+            self.floor += 1;
+            // Only the latest state at or before the floor is still needed.
+            while self.kept.len() > 1 && self.kept[1].0 <= self.floor {
+                self.kept.remove(0);
+            }
+        }
+        let n = self.made.len();
+        if n - self.kept[self.kept.len() - 1].0 >= KEPT_EVERY {
+            self.kept.push((n, qp.clone()));
+        }
+    }
+
+    /// The state after the first `n` choices: the latest one kept at or before, with the
+    /// choices since made again (each did before, from the same state, so each does again).
+    fn state_after(&self, n: usize) -> DualQp<'a> {
+        let (at, kept) = self.kept.iter().rev().find(|k| k.0 <= n).expect("a state at or before the floor");
+        let mut qp = kept.clone();
+        for c in &self.made[*at..n] {
+            if c.moved {
+                let again = qp.fix(c.j, c.value);
+                debug_assert!(again.is_ok());
+            } else {
+                let held = qp.fix_where_it_is(c.j, c.value);
+                debug_assert!(held);
+            }
+        }
+        qp
+    }
+
+    /// Takes back the latest choice that may be: it, and the state before it; `None` when
+    /// none may.
+    fn pop(&mut self) -> Option<(Choice, DualQp<'a>)> {
+        if self.made.len() <= self.floor {
+            return None;
+        }
+        let choice = self.made.pop()?;
+        self.kept.retain(|k| k.0 <= self.made.len());
+        Some((choice, self.state_after(self.made.len())))
+    }
 }
 
 /// One pass of [`round`], the coordinates of `first` fixed before the others, `budget` fixes
@@ -264,7 +333,7 @@ struct Choice<'a> {
 fn round_once(start: &DualQp<'_>, first: &[usize], budget: &mut usize) -> Result<Vec<f64>, Option<usize>> {
     let distance = |x: f64| (x - x.round()).abs();
     let mut qp = start.clone();
-    let mut trail: VecDeque<Choice> = VecDeque::new();
+    let mut trail = Trail::new(start);
     let mut dead_end = None;
     let mut backtracks = 0;
     loop {
@@ -280,30 +349,22 @@ fn round_once(start: &DualQp<'_>, first: &[usize], budget: &mut usize) -> Result
                 *budget = budget.checked_sub(1).ok_or(None)?;
                 // Most coordinates chosen are at an integer already (at --quads 4000 on
                 // elephant's automatic layout, 1276 of 1802): fixing them there changes
-                // nothing else, and needs neither a copy of the state nor a solve.
+                // nothing else, and needs no solve.
                 if qp.fix_where_it_is(j, value) {
-                    trail.push_back(Choice { before: None, j, rest });
-                    if trail.len() > TRAIL {
-                        trail.pop_front();
-                    }
+                    trail.push(Choice { j, value, moved: false, rest }, &qp);
                     break;
                 }
-                let mut attempt = qp.clone();
-                if attempt.fix(j, value).is_ok() {
-                    trail.push_back(Choice { before: Some(std::mem::replace(&mut qp, attempt)), j, rest });
-                    if trail.len() > TRAIL {
-                        trail.pop_front();
-                    }
+                if qp.fix(j, value).is_ok() {
+                    trail.push(Choice { j, value, moved: true, rest }, &qp);
                     break;
                 }
+                // A failed fixing spoils the state: back to the one before it.
+                qp = trail.state_after(trail.made.len());
             } else {
                 let dead_end = *dead_end.get_or_insert(j);
                 backtracks += 1;
-                let choice = trail.pop_back().filter(|_| backtracks <= BACKTRACKS).ok_or(Some(dead_end))?;
-                match choice.before {
-                    Some(before) => qp = before,
-                    None => qp.unfix(choice.j),
-                }
+                let (choice, before) = trail.pop().filter(|_| backtracks <= BACKTRACKS).ok_or(Some(dead_end))?;
+                qp = before;
                 (j, rest) = (choice.j, choice.rest);
             }
         }
@@ -380,6 +441,43 @@ mod tests {
             vec![vec![(0, 1), (1, 1), (2, 1), (3, 1), (4, 1), (5, -1)], vec![(5, 1), (6, -1)]];
         let desired = [1.0, 1.0, 1.0, 1.0, 1.0, 2.0, 2.0];
         assert_eq!(sample_counts(&desired, &rows(&eqs), &eqs).unwrap(), vec![1, 1, 1, 1, 1, 5, 5]);
+    }
+
+    /// The rounding keeps a copy of the state only now and then and makes the choices since
+    /// again: the state so made is the one the choices left, bit for bit, before the window of
+    /// choices that may be taken back moves on and after.
+    #[test]
+    fn a_state_made_again_is_the_one_the_choices_left() {
+        let k = 40;
+        let mut rows: Vec<Row> = (0..k).map(|i| vec![(i, 1.0)]).collect();
+        rows.extend((0..k - 1).map(|i| vec![(i, 1.0), (i + 1, 1.0)]));
+        let desired: Vec<f64> = (0..rows.len()).map(|i| 0.3 + (i * 37 % 11) as f64 * 0.47).collect();
+        let mut qp = DualQp::new(&rows, k, &desired).unwrap();
+        qp.solve().unwrap();
+        let mut trail = Trail::new(&qp);
+        let mut states = vec![qp.clone()];
+        for j in 0..k {
+            let value = qp.z[j].round().max(1.0);
+            let moved = !qp.fix_where_it_is(j, value);
+            if moved {
+                qp.fix(j, value).unwrap();
+            }
+            trail.push(Choice { j, value, moved, rest: Vec::new() }, &qp);
+            states.push(qp.clone());
+            let n = trail.made.len();
+            for m in [n, n.saturating_sub(TRAIL).max(trail.floor)] {
+                let again = trail.state_after(m);
+                assert_eq!(again.z, states[m].z, "after {m} of {n} choices");
+                assert!((0..k).all(|x| again.is_fixed(x) == states[m].is_fixed(x)), "after {m} of {n} choices");
+            }
+        }
+        assert!(trail.kept.len() <= TRAIL / KEPT_EVERY + 2, "{} states kept", trail.kept.len());
+        // Taking back gives the state before each choice, as far back as the window goes.
+        for m in (k - TRAIL..k).rev() {
+            let (choice, before) = trail.pop().unwrap();
+            assert_eq!((choice.j, before.z.clone()), (m, states[m].z.clone()));
+        }
+        assert!(trail.pop().is_none());
     }
 
     #[test]

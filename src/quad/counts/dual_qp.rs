@@ -113,11 +113,6 @@ impl<'a> DualQp<'a> {
         held
     }
 
-    /// Lets `z_j`, fixed by [`DualQp::fix_where_it_is`] and not moved since, go free again.
-    pub fn unfix(&mut self, j: usize) {
-        self.fixed[j] = Fixing::Free;
-    }
-
     pub fn is_fixed(&self, j: usize) -> bool {
         self.fixed[j] != Fixing::Free
     }
@@ -489,8 +484,7 @@ mod tests {
 
     #[test]
     fn fixing_a_variable_where_it_is_leaves_the_state_a_fix_would() {
-        // z0 ≥ 1 is active (wants −2), z1 is free at 3: fixing z1 at 3 changes nothing else,
-        // and letting it go again leaves it free.
+        // z0 ≥ 1 is active (wants −2), z1 is free at 3: fixing z1 at 3 changes nothing else.
         let rows: Vec<Row> = vec![vec![(0, 1.0)], vec![(1, 1.0)], vec![(0, 1.0), (1, 1.0)]];
         let mut qp = DualQp::new(&rows, 2, &[-2.0, 3.0, 4.0]).unwrap();
         qp.solve().unwrap();
@@ -500,8 +494,6 @@ mod tests {
         solved.fix(1, z1).unwrap();
         assert!(qp.fix_where_it_is(1, z1));
         assert_eq!((&qp.z, &qp.fixed, &qp.active, &qp.u, qp.steps), (&solved.z, &solved.fixed, &solved.active, &solved.u, solved.steps));
-        qp.unfix(1);
-        assert!(!qp.is_fixed(1));
     }
 
     #[test]
