@@ -257,12 +257,13 @@ struct Choice {
     rest: Vec<f64>,
 }
 
-/// A copy of the QP's state is kept before every this many choices. A copy is `2 k²` numbers
-/// (16 MB on a layout with a hundred holes, `k` about a thousand), and copying one before
-/// every fixing that moves the solution was half the time of the rounding there; the choices
-/// since a copy are made again instead, only where a fixing fails or a choice is taken back
-/// (none of about 300 per rounding on CGAL's elephant-with-holes failed).
-const KEPT_EVERY: usize = 8;
+/// A copy of the QP's state is kept after every this many choices that moved the solution
+/// (a solve each; the others cost nothing to make again). A copy is `2 k²` numbers (16 MB on
+/// a layout with a hundred holes, `k` about a thousand), and copying one before every such
+/// choice was half the time of the rounding there; the choices since a copy are made again
+/// instead, only where a fixing fails or a choice is taken back (none of about 300 per
+/// rounding on CGAL's elephant-with-holes failed).
+const KEPT_EVERY: usize = 16;
 
 /// The choices of one pass of the rounding, and how to get the state before any of the last
 /// [`TRAIL`] back.
@@ -291,9 +292,14 @@ impl<'a> Trail<'a> {
             }
         }
         let n = self.made.len();
-        if n - self.kept[self.kept.len() - 1].0 >= KEPT_EVERY {
+        if self.moved_since(self.kept[self.kept.len() - 1].0) >= KEPT_EVERY {
             self.kept.push((n, qp.clone()));
         }
+    }
+
+    /// How many of the choices from the `from`-th on moved the solution.
+    fn moved_since(&self, from: usize) -> usize {
+        self.made[from..].iter().filter(|c| c.moved).count()
     }
 
     /// The state after the first `n` choices: the latest one kept at or before, with the
@@ -448,7 +454,7 @@ mod tests {
     /// choices that may be taken back moves on and after.
     #[test]
     fn a_state_made_again_is_the_one_the_choices_left() {
-        let k = 40;
+        let k = 120;
         let mut rows: Vec<Row> = (0..k).map(|i| vec![(i, 1.0)]).collect();
         rows.extend((0..k - 1).map(|i| vec![(i, 1.0), (i + 1, 1.0)]));
         let desired: Vec<f64> = (0..rows.len()).map(|i| 0.3 + (i * 37 % 11) as f64 * 0.47).collect();
@@ -471,7 +477,9 @@ mod tests {
                 assert!((0..k).all(|x| again.is_fixed(x) == states[m].is_fixed(x)), "after {m} of {n} choices");
             }
         }
-        assert!(trail.kept.len() <= TRAIL / KEPT_EVERY + 2, "{} states kept", trail.kept.len());
+        assert!(trail.kept.len() <= TRAIL + 2, "{} states kept", trail.kept.len());
+        assert!(trail.kept.len() > 1, "no state kept after the first");
+        assert!(trail.made.iter().filter(|c| c.moved).count() > 2 * KEPT_EVERY);
         // Taking back gives the state before each choice, as far back as the window goes.
         for m in (k - TRAIL..k).rev() {
             let (choice, before) = trail.pop().unwrap();
