@@ -59,7 +59,7 @@ use crate::geom::{add, norm, sub, unit, Vec3};
 use crate::mesh::geometry::corner_angle;
 use crate::mesh::topology::topology;
 use crate::mesh::{Mesh, NONE};
-use crate::quad::counts::{sample_counts, CountError};
+use crate::quad::counts::{sample_counts, CountError, Equation};
 use crate::quad::default_edge_length;
 use crate::quad::density::{edge_length_for_quads, face_areas, IncidenceCounts};
 use crate::guidance::{face_distortion, nearest_vertex, FaceDistortion};
@@ -620,13 +620,14 @@ fn finish(
     };
     // Segments whose sparse waypoints let their curve meet another: written with every vertex.
     let mut dense = vec![false; g.segments.len()];
+    let mut solved = CountsSolved::default();
     for round in 0..MAX_ROUNDS {
         tried.batch = round >= BATCH_AFTER;
         if repair(mesh, field, g, options.patches, diag, seeds_left, &mut tried)? {
             continue;
         }
         dense.resize(g.segments.len(), false);
-        let rejected = match write(mesh, field, g, &dense, pass == Pass::Build) {
+        let rejected = match write(mesh, field, g, &dense, pass == Pass::Build, &mut solved) {
             Ok(done) => return Ok(done),
             Err(e) => e,
         };
@@ -776,7 +777,7 @@ fn refine(
 /// ([`corners::choose`] within `budget`), if that moves any and the counts still hold.
 fn with_corners_together(mesh: &Mesh, field: &CrossField, placed: &Placement, layout: &Layout, budget: f64) -> Option<(Layout, SurfaceLayout)> {
     let unpatched = Layout { patches: Vec::new(), ..layout.clone() };
-    let w = write_patches(mesh, field, placed, unpatched, budget, false).ok()?;
+    let w = write_patches(mesh, field, placed, unpatched, budget, false, &mut CountsSolved::default()).ok()?;
     (w.layout.patches != layout.patches).then_some((w.layout, w.surface))
 }
 
@@ -1447,6 +1448,38 @@ fn regular_nodes(mesh: &Mesh, field: &CrossField, surface: &SurfaceLayout) -> Ve
         .collect()
 }
 
+/// The sample counts [`write`] solved in one [`finish`], the latest few: its rounds write the
+/// same layout again where a repair puts back what a refusal took away (on CGAL's
+/// elephant-with-holes, 66 of the first 93 writes repeated one of two layouts, each count
+/// solve 1.5 s).
+#[derive(Default)]
+struct CountsSolved(Vec<SolvedCounts>);
+
+/// A count problem (the desired counts and the equations) and its solution.
+struct SolvedCounts {
+    desired: Vec<f64>,
+    equations: Vec<Equation>,
+    counts: Result<Vec<u32>, CountError>,
+}
+
+/// How many problems [`CountsSolved`] remembers.
+const COUNTS_REMEMBERED: usize = 4;
+
+impl CountsSolved {
+    /// [`sample_counts`] of the problem, solved again only if it is none of the latest.
+    fn counts(&mut self, desired: &[f64], equations: &[Equation]) -> Result<Vec<u32>, CountError> {
+        if let Some(known) = self.0.iter().find(|s| s.desired == desired && s.equations == equations) {
+            return known.counts.clone();
+        }
+        let counts = sample_counts(desired, equations);
+        if self.0.len() == COUNTS_REMEMBERED {
+            self.0.remove(0);
+        }
+        self.0.push(SolvedCounts { desired: desired.to_vec(), equations: equations.to_vec(), counts: counts.clone() });
+        counts
+    }
+}
+
 /// Why the layout reader or the sample counts refused a written layout.
 #[derive(Debug)]
 enum Rejected {
@@ -1487,7 +1520,7 @@ struct Written {
 }
 
 /// The layout file of the graph, checked by the layout reader and the sample-count equations.
-fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up: bool) -> Result<Written, Rejected> {
+fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up: bool, solved: &mut CountsSolved) -> Result<Written, Rejected> {
     let nodes: Vec<u32> = (0..mesh.n_vertices() as u32).filter(|&v| g.node[v as usize]).collect();
     let mut index = vec![NONE; mesh.n_vertices()];
     for (i, &v) in nodes.iter().enumerate() {
@@ -1522,13 +1555,21 @@ fn write(mesh: &Mesh, field: &CrossField, g: &CurveGraph, dense: &[bool], set_up
     };
     // Placed once: the patches change only the corners.
     let placed = place(mesh, &layout, Numbering::of(mesh)).map_err(Rejected::Layout)?;
-    write_patches(mesh, field, &placed, layout, 0.0, set_up)
+    write_patches(mesh, field, &placed, layout, 0.0, set_up, solved)
 }
 
 /// `layout` (without patches, as `placed`) with a rectangle chart on every face and the corners
 /// [`corners::choose`] picks within `corner_budget`, checked by the layout reader and the
 /// sample-count equations (and the parameterization's set-up where asked).
-fn write_patches(mesh: &Mesh, field: &CrossField, placed: &Placement, mut layout: Layout, corner_budget: f64, set_up: bool) -> Result<Written, Rejected> {
+fn write_patches(
+    mesh: &Mesh,
+    field: &CrossField,
+    placed: &Placement,
+    mut layout: Layout,
+    corner_budget: f64,
+    set_up: bool,
+    solved: &mut CountsSolved,
+) -> Result<Written, Rejected> {
     let surface = placed.with_patches(mesh, &layout).map_err(Rejected::Layout)?;
     // Corners where the face turns most, measured along the curves rather than on their
     // first mesh edge (a trace zig-zags along edges). Every face gets a rectangle: the
@@ -1566,7 +1607,7 @@ fn write_patches(mesh: &Mesh, field: &CrossField, placed: &Placement, mut layout
         .map(|f| f.pieces.iter().map(|d| surface.curves[d.curve as usize].curve.length / h).collect())
         .collect();
     let problem = IncidenceCounts::new(&surface, &desires);
-    let n = match sample_counts(&problem.desired, &problem.equations) {
+    let n = match solved.counts(&problem.desired, &problem.equations) {
         Ok(n) => n,
         Err(e) => {
             let curve = |i: u32| problem.curve.get(i as usize).copied().unwrap_or(NONE);
@@ -1608,6 +1649,24 @@ fn write_patches(mesh: &Mesh, field: &CrossField, placed: &Placement, mut layout
 mod tests {
     use super::*;
     use crate::layout::curve::tests::load;
+
+    /// A problem met again gets the counts (or the refusal) it got, from the latest few.
+    #[test]
+    fn counts_solved_again_are_the_ones_solved() {
+        // Pieces 0 + 1 = 2 (a side of two pieces opposite one), desired 1.4, 2.6, d.
+        let equations: Vec<Equation> = vec![vec![(0, 1), (1, 1), (2, -1)]];
+        let problem = |d: f64| vec![1.4, 2.6, d];
+        let mut solved = CountsSolved::default();
+        for d in [4.0, 3.0, 4.0, 5.0, 6.0, 7.0, 4.0] {
+            assert_eq!(solved.counts(&problem(d), &equations), sample_counts(&problem(d), &equations), "{d}");
+            assert!(solved.0.len() <= COUNTS_REMEMBERED);
+        }
+        // An infeasible one too: piece 0 = piece 0 + piece 1 leaves piece 1 at zero.
+        let infeasible: Vec<Equation> = vec![vec![(0, 1), (0, -1), (1, -1)]];
+        let first = solved.counts(&[2.0, 2.0], &infeasible);
+        assert!(first.is_err());
+        assert_eq!(solved.counts(&[2.0, 2.0], &infeasible), first);
+    }
 
     /// The layout kept is the best of the six tracings' candidates by their quads
     /// ([`pick`]).
