@@ -258,11 +258,14 @@ struct Choice {
 }
 
 /// A copy of the QP's state is kept after every this many choices that moved the solution
-/// (a solve each; the others cost nothing to make again). A copy is `2 k²` numbers (16 MB on
-/// a layout with a hundred holes, `k` about a thousand), and copying one before every such
-/// choice was half the time of the rounding there; the choices since a copy are made again
-/// instead, only where a fixing fails or a choice is taken back (none of about 300 per
-/// rounding on CGAL's elephant-with-holes failed).
+/// (a solve each; the others cost nothing to make again), until a fixing fails; then after
+/// every one. A copy is `2 k²` numbers (16 MB on a layout with a hundred holes, `k` about a
+/// thousand), and copying one before every such choice was half the time of the rounding
+/// there, where none of about 300 fixings per rounding failed; the choices since a copy are
+/// made again instead where one fails or a choice is taken back. But where fixings fail,
+/// they fail often (bunny_28k's automatic layout: 1319 failed and 269 choices were taken back
+/// in one `quadlay layout`), and making a dozen choices again for each cost more than the
+/// copies: `quadlay layout bunny_28k` took 7 % longer with copies every 16 throughout.
 const KEPT_EVERY: usize = 16;
 
 /// The choices of one pass of the rounding, and how to get the state before any of the last
@@ -274,11 +277,13 @@ struct Trail<'a> {
     floor: usize,
     /// States before choice `.0` (increasing), the first at or before `floor`.
     kept: Vec<(usize, DualQp<'a>)>,
+    /// A copy is kept after this many choices that moved the solution ([`KEPT_EVERY`]).
+    keep_every: usize,
 }
 
 impl<'a> Trail<'a> {
     fn new(start: &DualQp<'a>) -> Self {
-        Trail { made: Vec::new(), floor: 0, kept: vec![(0, start.clone())] }
+        Trail { made: Vec::new(), floor: 0, kept: vec![(0, start.clone())], keep_every: KEPT_EVERY }
     }
 
     /// Records a choice just made, `qp` the state after it.
@@ -292,7 +297,7 @@ impl<'a> Trail<'a> {
             }
         }
         let n = self.made.len();
-        if self.moved_since(self.kept[self.kept.len() - 1].0) >= KEPT_EVERY {
+        if self.moved_since(self.kept[self.kept.len() - 1].0) >= self.keep_every {
             self.kept.push((n, qp.clone()));
         }
     }
@@ -366,6 +371,7 @@ fn round_once(start: &DualQp<'_>, first: &[usize], budget: &mut usize) -> Result
                 }
                 // A failed fixing spoils the state: back to the one before it.
                 qp = trail.state_after(trail.made.len());
+                trail.keep_every = 1;
             } else {
                 let dead_end = *dead_end.get_or_insert(j);
                 backtracks += 1;
