@@ -275,7 +275,7 @@ struct Trail<'a> {
     made: Vec<Choice>,
     /// The choices from this one on may be taken back (at most [`TRAIL`]).
     floor: usize,
-    /// States before choice `.0` (increasing), the first at or before `floor`.
+    /// The states after the first `.0` choices (increasing), the first at or before `floor`.
     kept: Vec<(usize, DualQp<'a>)>,
     /// A copy is kept after this many choices that moved the solution ([`KEPT_EVERY`]).
     keep_every: usize,
