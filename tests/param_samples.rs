@@ -146,3 +146,27 @@ fn leaving_out_the_uv_couplings_of_axis_parallel_charts_changes_nothing() {
         }
     }
 }
+
+/// `ParamSession::check`, which the automatic layout asks of each simplification it keeps,
+/// meets what `ParamSession::new` meets before its factorization: nothing on the sample
+/// layouts, and the same error on two layouts that its repairs wrote on bunny_1k8 where the
+/// mesh is too coarse for them (tests/fixtures/too-coarse).
+#[test]
+fn the_check_refuses_what_the_solve_refuses_before_its_factorization() {
+    let options = ParamOptions::default();
+    for (layout_name, mesh_name) in common::SAMPLE_LAYOUTS {
+        let mesh = common::load_mesh(mesh_name);
+        let layout = common::sample_layout(&mesh, layout_name);
+        assert_eq!(ParamSession::check(&mesh, &layout, &options), Ok(()), "{layout_name}");
+    }
+    // As the commands work on it: refined, four triangles for each of the file's.
+    let (mesh, _) = common::load_working_mesh("bunny_1k8.obj");
+    for (name, kind) in [("node-not-on-face", "node_not_on_face"), ("not-neighbours", "faces_not_neighbours")] {
+        let path = format!("{}/tests/fixtures/too-coarse/bunny_1k8-{name}.layout.json", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let layout = quadlay::layout::build_layout(&mesh, &quadlay::layout::parse_layout(&text).unwrap()).unwrap();
+        let Err(solved) = ParamSession::new(&mesh, &layout, &options) else { panic!("{name}: the solve took the layout") };
+        assert_eq!(solved.kind(), kind, "{name}: {solved}");
+        assert_eq!(ParamSession::check(&mesh, &layout, &options), Err(solved), "{name}");
+    }
+}

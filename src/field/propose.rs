@@ -760,9 +760,9 @@ fn refine(
             let mut trial = best.graph.clone();
             trial.remove(s);
             let mut left = seeds_left;
-            // Set up the parameterization (its checks) only for a removal that helps.
+            // The parameterization's checks of the refined mesh, only for a removal that helps.
             let w = finish(mesh, field, &mut trial, options, diag, &mut left, Pass::Merge).ok()?;
-            let helps = w.count_error < best.count_error && ParamSession::new(mesh, &w.surface, &ParamOptions::default()).is_ok();
+            let helps = w.count_error < best.count_error && ParamSession::check(mesh, &w.surface, &ParamOptions::default()).is_ok();
             helps.then_some(Kept { graph: trial, layout: w.layout, surface: w.surface, count_error: w.count_error, curve_miss: w.curve_miss })
         };
         let (merged, tried) = first_some(&candidates[..candidates.len().min(tries)], merge);

@@ -257,8 +257,30 @@ impl ParamSession {
     /// # Errors
     /// [`ParamError`] if the system cannot be solved or the mesh is too coarse.
     pub fn new(mesh: &Mesh, layout: &SurfaceLayout, options: &ParamOptions) -> Result<ParamSession, ParamError> {
-        options.check()?;
         let t0 = now();
+        let mut session = ParamSession::unsolved(mesh, layout, options)?;
+        let sol = session.solve(None)?;
+        let distortion = session.distortion(&sol);
+        session.last = sol;
+        session.history.push(IterationStats { iteration: 0, distortion, seconds: now() - t0 });
+        Ok(session)
+    }
+
+    /// Whether [`ParamSession::new`] gets as far as its factorization: the refined mesh, its
+    /// charts and every triangle's vertices in its face's chart (the mesh is fine enough for
+    /// the layout), without the factorization and the solve, three quarters of its time. The
+    /// automatic layout checks each simplification it keeps this way.
+    ///
+    /// # Errors
+    /// The [`ParamError`] that `new` would meet before its factorization.
+    pub fn check(mesh: &Mesh, layout: &SurfaceLayout, options: &ParamOptions) -> Result<(), ParamError> {
+        let session = ParamSession::unsolved(mesh, layout, options)?;
+        session.all_aligned.check(&session.cut, &session.frames())
+    }
+
+    /// The session before its first solve: the refined mesh, unit charts and both systems.
+    fn unsolved(mesh: &Mesh, layout: &SurfaceLayout, options: &ParamOptions) -> Result<ParamSession, ParamError> {
+        options.check()?;
         let cut = cut_mesh(mesh, layout);
         let sides = curve_sides(layout);
         let curve_len: Vec<f64> = layout.curves.iter().map(|c| c.curve.length).collect();
@@ -304,7 +326,7 @@ impl ParamSession {
         let user_aligned = System::new(&cut, general, &tags);
         let user_tags = tags;
         let weights = system::cotangent_halves(&cut);
-        let mut session = ParamSession {
+        Ok(ParamSession {
             cut,
             sides,
             domains,
@@ -322,12 +344,7 @@ impl ParamSession {
             step_share: 1.0,
             kept_steps: 0,
             chart_seconds: 0.0,
-        };
-        let sol = session.solve(None)?;
-        let distortion = session.distortion(&sol);
-        session.last = sol;
-        session.history.push(IterationStats { iteration: 0, distortion, seconds: now() - t0 });
-        Ok(session)
+        })
     }
 
     /// The frames of the current charts: node positions in every chart, the faces beside

@@ -258,6 +258,18 @@ pub(super) fn own_exprs(cut: &CutMesh, vars: &[Var], frames: &ChartFrames, held:
         .collect()
 }
 
+/// The expressions of triangle `t`'s corners in the chart of its face: their own
+/// (`own`, as [`own_exprs`] gives them) or brought in from a neighbouring chart.
+///
+/// # Errors
+/// [`ParamError::NodeNotOnFace`] or [`ParamError::NotNeighbours`] for a corner with no place in
+/// that chart.
+fn triangle_exprs(cut: &CutMesh, frames: &ChartFrames, own: &[Option<Expr>], t: usize) -> Result<[Expr; 3], ParamError> {
+    let (tri, face) = (&cut.triangles[t], cut.triangle_face[t]);
+    let e = |k: usize| frames.vertex_expr(cut, own, tri[k], face);
+    Ok([e(0)?, e(1)?, e(2)?])
+}
+
 /// Half the cotangent of each triangle corner: the Dirichlet energy of a linear map on a
 /// triangle is Σ_k w_k |u_{k+1} − u_{k+2}|² with w_k = cot θ_k / 2 (eq. 2's weights).
 pub fn cotangent_halves(cut: &CutMesh) -> Vec<[f64; 3]> {
@@ -580,6 +592,16 @@ impl System {
         self.released(cut).map(move |(v, _)| if held.get(v) == Some(&true) { 1.0 } else { 0.0 })
     }
 
+    /// What a first [`System::solve`] meets before its factorization: the error of the first
+    /// vertex that has no place in its triangle's chart (a mesh too coarse for the layout).
+    ///
+    /// # Errors
+    /// [`ParamError::NodeNotOnFace`] or [`ParamError::NotNeighbours`], as the solve gives them.
+    pub fn check(&self, cut: &CutMesh, frames: &ChartFrames) -> Result<(), ParamError> {
+        let own = own_exprs(cut, &self.vars, frames, &[])?;
+        (0..cut.triangles.len()).try_for_each(|t| triangle_exprs(cut, frames, &own, t).map(|_| ()))
+    }
+
     /// Assembles and solves the system in the charts of `frames` (node positions and
     /// transitions), with the refined mesh's [`cotangent_halves`] as `weights`, holding the
     /// vertices `held` on their chart sides (see [`held_on_side`]; aligned curves' always
@@ -590,11 +612,7 @@ impl System {
     pub fn solve(&mut self, cut: &CutMesh, frames: &ChartFrames, weights: &[[f64; 3]], held: &[bool]) -> Result<Solution, ParamError> {
         let t0 = now();
         let own = own_exprs(cut, &self.vars, frames, held)?;
-        let exprs_of = |t: usize| -> Result<[Expr; 3], ParamError> {
-            let (tri, face) = (&cut.triangles[t], cut.triangle_face[t]);
-            let e = |k: usize| frames.vertex_expr(cut, &own, tri[k], face);
-            Ok([e(0)?, e(1)?, e(2)?])
-        };
+        let exprs_of = |t: usize| triangle_exprs(cut, frames, &own, t);
         let first = self.solver.is_none();
         // Later solves need only the varying triangles' expressions: the others' vertices
         // are their own unknowns.
