@@ -4,6 +4,7 @@
 //! Segments share no vertex except their end nodes, so their curves meet only at nodes. The
 //! boundary is not stored: its vertices are taken, and the nodes on it are kept here.
 
+use super::faces::Adjacency;
 use crate::geom::{dot, sub, unit};
 use crate::mesh::geometry::{edge_lengths, triangle_areas};
 use crate::mesh::{Mesh, NONE};
@@ -49,11 +50,12 @@ pub struct CurveGraph {
     pub from_cells: bool,
 }
 
-/// Per triangle its area, per edge its length.
+/// Per triangle its area, per edge its length, and who neighbours whom ([`Adjacency`]).
 #[derive(Debug)]
 pub struct MeshMeasures {
     pub areas: Vec<f64>,
     pub lengths: Vec<f64>,
+    pub adjacency: Adjacency,
 }
 
 impl CurveGraph {
@@ -61,7 +63,7 @@ impl CurveGraph {
     pub fn new(mesh: &Mesh) -> CurveGraph {
         let nv = mesh.n_vertices();
         let boundary = (0..nv as u32).map(|v| mesh.is_boundary_vertex(v)).collect();
-        let measures = Arc::new(MeshMeasures { areas: triangle_areas(mesh), lengths: edge_lengths(mesh) });
+        let measures = Arc::new(MeshMeasures { areas: triangle_areas(mesh), lengths: edge_lengths(mesh), adjacency: Adjacency::new(mesh) });
         CurveGraph { node: vec![false; nv], pinned: vec![false; nv], segments: Vec::new(), inside: vec![NONE; nv], boundary, measures, from_cells: false }
     }
 
