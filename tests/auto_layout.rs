@@ -63,7 +63,7 @@ fn shared_meshes_get_valid_layouts_and_quads() {
         for _ in 0..ParamOptions::default().iterations {
             param.step().unwrap();
         }
-        param.finish().unwrap();
+        let flipped = param.finish().unwrap().flipped;
         // No chart collapses (eight's and nefertiti's did, to side ratios 1e9 off their
         // curves', before chart optimization was bounded): its proportions stay near its face's.
         for (f, face) in s.faces.iter().enumerate() {
@@ -74,7 +74,7 @@ fn shared_meshes_get_valid_layouts_and_quads() {
         let (quads, _) = extract(s, &param, &QuadOptions::with_edge_length(h)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let q = measure(&mesh, &quads);
         table.push(format!(
-            "| {name} | {} | {:.2} % | {:.2}° | {} | {} | {:.3} s | {layout_line} |",
+            "| {name} | {} | {:.2} % | {:.2}° | {} | {} | {flipped} | {:.3} s | {layout_line} |",
             q.faces,
             100.0 * q.hausdorff,
             q.angle_deviation_mean_deg,
@@ -102,8 +102,8 @@ fn shared_meshes_get_valid_layouts_and_quads() {
             failures.push(format!("{name}: the quads miss the surface by {:.1} % of the diagonal", 100.0 * q.hausdorff));
         }
     }
-    println!("| mesh | quads | Hausdorff | mean angle deviation | irregular vertices | folded | layout time | layout |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!("| mesh | quads | Hausdorff | mean angle deviation | irregular vertices | folded | flipped triangles | layout time | layout |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for row in table {
         println!("{row}");
     }
