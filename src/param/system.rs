@@ -740,14 +740,17 @@ impl System {
         }
         self.times.solve += now() - t3;
         // Vertices of a curve out of order along its chart side fold the triangles between
-        // them: held near their share of the curve's length, solved again.
-        let varying_exprs: Vec<[Expr; 3]> = if first { self.pattern.varying.iter().map(|&t| exprs[t as usize]).collect() } else { exprs.clone() };
+        // them: held between their ordered neighbours, solved again (a later solve's
+        // assembly, with the varying triangles' expressions only).
+        let mut varying: Option<Vec<[Expr; 3]>> = None;
         for _ in 0..PIN_ROUNDS {
             if !self.keep_order || !self.pin_out_of_order(cut, &z) {
                 break;
             }
+            let pattern = &self.pattern;
+            let exprs = varying.get_or_insert_with(|| if first { pattern.varying.iter().map(|&t| exprs[t as usize]).collect() } else { exprs.clone() });
             let mut again = vec![0.0; self.n_unknowns];
-            self.later_solve(&Assembly { cut, exprs: &varying_exprs, weights, held }, &mut again, now()).map_err(|e| self.pivot_vertex(e, cut))?;
+            self.later_solve(&Assembly { cut, exprs, weights, held }, &mut again, now()).map_err(|e| self.pivot_vertex(e, cut))?;
             if let Some(solver) = self.solver.as_ref() {
                 solver.solve_in_place(&mut again)?;
             }
