@@ -82,22 +82,10 @@ const COUNT_SLACK: f64 = 0.15;
 /// both mend a few vertices of any layout, and cost time the ranking does not need.
 const RECTIFY_STEPS: usize = 0;
 
-/// The parameterization the proposals are judged and refined by: the default one, but with
-/// the curve vertices where the energy puts them ([`ParamOptions::keep_order`] off), as the
-/// proposal's choices were measured. Those choices are chaotic (a solve that differs a little
-/// changes the whole layout). Judged with the order kept, over 36 meshes (the seven shared, 29
-/// of CGAL's) at 4000 quads the layouts' quads came out worse on the whole: geometric-mean
-/// Hausdorff distance 1.253 → 1.279 % of the diagonal, mean angle deviation 6.66 → 6.73°, 5 %
-/// more irregular vertices, 98 folded quads where 86 were; eight's Hausdorff distance 0.25 →
-/// 0.50 %, elephant_44k's angle 6.4 → 8.1° (nefertiti's irregular vertices 16 → 8). The
-/// remesh of the layout kept keeps the order: on the same 36 layouts, flipped triangles 5142 →
-/// 2019, the rest within noise (1.253 → 1.264 %, 6.66 → 6.63°).
-pub const PROPOSAL_PARAM: ParamOptions = ParamOptions { keep_order: false, ..ParamOptions::DEFAULT };
-
 /// The quads of `layout` at `edge_length`, measured; `None` where the remesh fails (as
 /// `remesh` would refuse it).
 pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Judged> {
-    let options = PROPOSAL_PARAM;
+    let options = ParamOptions::default();
     let mut param = ParamSession::new(mesh, layout, &options).ok()?;
     for _ in 0..options.iterations {
         param.step().ok()?;

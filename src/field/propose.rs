@@ -44,7 +44,7 @@ use super::cells::add_cell_borders;
 use super::corners::{self, FaceTurns};
 use super::faces::{analyze, FaceInfo, Faces};
 use super::graph::CurveGraph;
-use super::judge::{best, judge, Judged, PROPOSAL_PARAM};
+use super::judge::{best, judge, Judged};
 use super::seamless::iso_lines;
 use super::separatrix::separatrix_directions;
 use super::slivers::merge_sides;
@@ -64,7 +64,7 @@ use crate::quad::default_edge_length;
 use crate::quad::density::{edge_length_for_quads, face_areas, IncidenceCounts};
 use crate::guidance::{face_distortion, nearest_vertex, FaceDistortion};
 use crate::verdict::faces_above;
-use crate::param::{ParamError, ParamSession};
+use crate::param::{ParamError, ParamOptions, ParamSession};
 use crate::solve::SolveError;
 use std::f64::consts::PI;
 use std::fmt;
@@ -762,7 +762,7 @@ fn refine(
             let mut left = seeds_left;
             // The parameterization's checks of the refined mesh, only for a removal that helps.
             let w = finish(mesh, field, &mut trial, options, diag, &mut left, Pass::Merge).ok()?;
-            let helps = w.count_error < best.count_error && ParamSession::check(mesh, &w.surface, &PROPOSAL_PARAM).is_ok();
+            let helps = w.count_error < best.count_error && ParamSession::check(mesh, &w.surface, &ParamOptions::default()).is_ok();
             helps.then_some(Kept { graph: trial, layout: w.layout, surface: w.surface, count_error: w.count_error, curve_miss: w.curve_miss })
         };
         let (merged, tried) = first_some(&candidates[..candidates.len().min(tries)], merge);
@@ -1632,7 +1632,7 @@ fn write_patches(
         return Ok(Written { layout, surface, param: None, count_error, curve_miss, count_freedom });
     }
     // The parameterization's own checks of the cut mesh.
-    match ParamSession::new(mesh, &surface, &PROPOSAL_PARAM) {
+    match ParamSession::new(mesh, &surface, &ParamOptions::default()) {
         Ok(param) => Ok(Written { layout, surface, param: Some(param), count_error, curve_miss, count_freedom }),
         Err(e) => {
             let v = match e {

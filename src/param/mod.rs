@@ -94,11 +94,6 @@ pub struct ParamOptions {
     /// [`ParamSession::finish`]); after them, every curve aligned. Each in [0, 1]. Default
     /// `[0.1, 0.25]`.
     pub final_anchors: [f64; 2],
-    /// Hold the vertices of a curve that a solve puts out of order along their chart side
-    /// near their place between their neighbours, and solve again (see `system`'s module
-    /// documentation): most of the triangles flipped in their charts are there. Default
-    /// true; the automatic layout judges its proposals without it ([`crate::field`]).
-    pub keep_order: bool,
     /// Which global system every solve uses (a comparison for tests, behind the `eq3`
     /// feature). Default [`Formulation::Symmetric`].
     #[cfg(feature = "eq3")]
@@ -119,13 +114,12 @@ impl ParamOptions {
         step_shares: [0.5, 0.25],
         grow_after: 2,
         final_anchors: [0.1, 0.25],
-        keep_order: true,
         #[cfg(feature = "eq3")]
         formulation: Formulation::Symmetric,
     };
 
     /// The names the page may give (serde's names of the fields).
-    pub const KEYS: [&'static str; 11] = [
+    pub const KEYS: [&'static str; 10] = [
         "iterations",
         "align",
         "chart",
@@ -136,7 +130,6 @@ impl ParamOptions {
         "step_shares",
         "grow_after",
         "final_anchors",
-        "keep_order",
     ];
 
     /// The first setting out of its range, with what it must be.
@@ -329,8 +322,8 @@ impl ParamSession {
             .map(|(c, s)| if options.align { c.align } else { s[1] == NONE })
             .collect();
         let general: Vec<bool> = domains.iter().map(|d| d.kind == ChartKind::Quad).collect();
-        let all_aligned = System::new(&cut, general.clone(), &every).keeping_order(options.keep_order);
-        let user_aligned = System::new(&cut, general, &tags).keeping_order(options.keep_order);
+        let all_aligned = System::new(&cut, general.clone(), &every);
+        let user_aligned = System::new(&cut, general, &tags);
         let user_tags = tags;
         let weights = system::cotangent_halves(&cut);
         Ok(ParamSession {

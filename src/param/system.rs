@@ -17,15 +17,6 @@
 //! that satisfy it — which is what eq. 12 computes, with the relaxed harmonic rows being
 //! the vertices' energy gradients.
 //!
-//! Order along the chart sides: a curve vertex's place along its side is an unknown of its own,
-//! and nothing in the energy keeps the vertices of one curve in their order. Where a node's
-//! chart angle is far from the surface's (a corner where the face hardly turns, a T-vertex
-//! where it turns sharply), a solve can put one behind its neighbour or past the node, and the
-//! triangles between them fold: on bunny_28k's automatic layout 38 of its 50 flipped triangles
-//! touched such a vertex. Those vertices are then held near the place between their ordered
-//! neighbours that their share of the curve's length gives (`PIN` times their own diagonal),
-//! and the system solved again with the same pattern ([`System::solve`]).
-//!
 //! Why this formulation and not eq. 3 as written: `docs/formulations.md` compares the two on
 //! the known answers and the sample layouts (`cargo test --test param_formulations`).
 
@@ -38,13 +29,6 @@ use crate::culprits::Culprits;
 use crate::mesh::NONE;
 use crate::solve::{SolveError, SpdSolver};
 use std::fmt;
-
-/// How strongly a pinned curve vertex is held at its share of the curve's length: this many
-/// times its own diagonal of the system ([`System::pins`]).
-const PIN: f64 = 100.0;
-/// Solves again at most this many times in one [`System::solve`] for curve vertices out of
-/// order.
-const PIN_ROUNDS: usize = 3;
 
 /// The unknowns of one vertex.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -335,12 +319,6 @@ pub struct System {
     solver: Option<SpdSolver>,
     /// The pattern, fixed by the first solve (see [`Pattern`]).
     pattern: Pattern,
-    /// Curve vertices held near their share of their curve's length (the unknown of their
-    /// place along the chart side, and that share), because a solve put them out of order
-    /// along it ([`System::pin_out_of_order`]); kept for the later solves.
-    pins: Vec<(u32, f64)>,
-    /// Whether solves pin curve vertices out of order ([`System::keeping_order`]).
-    keep_order: bool,
     pub times: StageTimes,
 }
 
@@ -448,7 +426,7 @@ impl System {
     /// `general[f]` tells whether face f's chart is a general quadrilateral.
     pub fn new(cut: &CutMesh, general: Vec<bool>, aligned: &[bool]) -> System {
         let (vars, n) = unknowns(cut, aligned, 0.0);
-        System { vars, n_unknowns: n, general, solver: None, pattern: Pattern::default(), pins: Vec::new(), keep_order: true, times: StageTimes::default() }
+        System { vars, n_unknowns: n, general, solver: None, pattern: Pattern::default(), times: StageTimes::default() }
     }
 
     pub fn n_unknowns(&self) -> usize {
@@ -548,11 +526,6 @@ impl System {
         }
         let t2 = now();
         self.times.symbolic += t2 - t1;
-        for &(i, share) in &self.pins {
-            let w = PIN * values[i as usize];
-            values[i as usize] += w;
-            rhs[i as usize] += w * share;
-        }
         solver.factor(&values)?;
         self.solver = Some(solver);
         self.times.factor += now() - t2;
@@ -582,12 +555,6 @@ impl System {
         let first_held = *p.value_start.last().unwrap_or(&0) as usize;
         for (k, value) in self.held_values(cut, held).enumerate() {
             stored[p.slot[first_held + k] as usize] += value;
-        }
-        for &(i, share) in &self.pins {
-            let slot = p.slot[i as usize] as usize;
-            let w = PIN * stored[slot];
-            stored[slot] += w;
-            rhs[i as usize] += w * share;
         }
         let t1 = now();
         self.times.assembly += t1 - t0;
@@ -623,77 +590,6 @@ impl System {
     /// held on its side (an identity row keeps n = 0), 0 otherwise.
     fn held_values<'a>(&'a self, cut: &'a CutMesh, held: &'a [bool]) -> impl Iterator<Item = f64> + 'a {
         self.released(cut).map(move |(v, _)| if held.get(v) == Some(&true) { 1.0 } else { 0.0 })
-    }
-
-    /// This system with solves that keep each curve's vertices in order along their chart
-    /// side (`keep`, the default) or leave them where the energy puts them.
-    pub fn keeping_order(mut self, keep: bool) -> System {
-        self.keep_order = keep;
-        self
-    }
-
-    /// Pins ([`System::pins`]) the curve vertices that `z` puts out of order along their chart
-    /// side: at or behind an earlier vertex of the curve, or past either end. True if it pinned
-    /// any not pinned before.
-    fn pin_out_of_order(&mut self, cut: &CutMesh, z: &[f64]) -> bool {
-        let before = self.pins.len();
-        for verts in &cut.curve_vertices {
-            let along = |v: u32| match self.vars[v as usize] {
-                Var::Free(i) | Var::OnSide(i) => Some(i),
-                Var::Fixed => None,
-            };
-            let length: Vec<f64> = std::iter::once(0.0)
-                .chain(verts.windows(2).scan(0.0, |sum, w| {
-                    *sum += crate::geom::norm(crate::geom::sub(cut.positions[w[1] as usize], cut.positions[w[0] as usize]));
-                    Some(*sum)
-                }))
-                .collect();
-            let total = length.last().copied().unwrap_or(0.0);
-            if total <= 0.0 {
-                continue;
-            }
-            // Out of order: at or behind the farthest vertex before, or past an end. Each run of
-            // those is held between the ordered vertices round it, spread by length.
-            let s: Vec<Option<f64>> = verts.iter().map(|&v| along(v).map(|i| z[i as usize])).collect();
-            let mut out = vec![false; verts.len()];
-            let mut reached = 0.0f64;
-            for k in 1..verts.len().saturating_sub(1) {
-                let Some(x) = s[k] else { continue };
-                if x <= reached || x >= 1.0 {
-                    out[k] = true;
-                } else {
-                    reached = x;
-                }
-            }
-            let at = |k: usize| if k == 0 { 0.0 } else if k + 1 == verts.len() { 1.0 } else { s[k].unwrap_or(0.0) };
-            let mut k = 1;
-            while k + 1 < verts.len() {
-                if !out[k] {
-                    k += 1;
-                    continue;
-                }
-                let first = k;
-                while k + 1 < verts.len() && out[k] {
-                    k += 1;
-                }
-                // Ordered neighbours: the one before the run, and the first after it beyond that.
-                let a = first - 1;
-                let mut b = k;
-                while b + 1 < verts.len() && at(b) <= at(a) {
-                    b += 1;
-                }
-                let (sa, sb) = (at(a), at(b).max(at(a)));
-                for j in first..b {
-                    let Some(i) = along(verts[j]) else { continue };
-                    let t = (length[j] - length[a]) / (length[b] - length[a]).max(f64::MIN_POSITIVE);
-                    if !self.pins.iter().any(|p| p.0 == i) {
-                        self.pins.push((i, sa + t * (sb - sa)));
-                    }
-                }
-                k = b.max(k);
-            }
-        }
-        self.pins.len() > before
     }
 
     /// What a first [`System::solve`] meets before its factorization: the error of the first
@@ -739,23 +635,6 @@ impl System {
             solver.solve_in_place(&mut z)?;
         }
         self.times.solve += now() - t3;
-        // Vertices of a curve out of order along its chart side fold the triangles between
-        // them: held between their ordered neighbours, solved again (a later solve's
-        // assembly, with the varying triangles' expressions only).
-        let mut varying: Option<Vec<[Expr; 3]>> = None;
-        for _ in 0..PIN_ROUNDS {
-            if !self.keep_order || !self.pin_out_of_order(cut, &z) {
-                break;
-            }
-            let pattern = &self.pattern;
-            let exprs = varying.get_or_insert_with(|| if first { pattern.varying.iter().map(|&t| exprs[t as usize]).collect() } else { exprs.clone() });
-            let mut again = vec![0.0; self.n_unknowns];
-            self.later_solve(&Assembly { cut, exprs, weights, held }, &mut again, now()).map_err(|e| self.pivot_vertex(e, cut))?;
-            if let Some(solver) = self.solver.as_ref() {
-                solver.solve_in_place(&mut again)?;
-            }
-            z = again;
-        }
         if first {
             return Ok(Solution { corner_uv: exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect() });
         }

@@ -158,7 +158,7 @@ test('a run with chosen chart types, its refined mesh, uv, distortion, charts an
 
     assert.throws(() => s.startParam({ chart: 'hex' }), /unknown chart type 'hex'/);
     // A misspelled option is named, not ignored.
-    assert.throws(() => s.startParam({ charts: 'rect' }), /solve options: unknown option `charts` \(known: iterations, align, chart, accelerate, anderson_depth, blow_up, guard_flips, step_shares, grow_after, final_anchors, keep_order\)/);
+    assert.throws(() => s.startParam({ charts: 'rect' }), /solve options: unknown option `charts` \(known: iterations, align, chart, accelerate, anderson_depth, blow_up, guard_flips, step_shares, grow_after, final_anchors\)/);
   } finally {
     s.free();
   }
