@@ -8,7 +8,7 @@
 
 use crate::geom::{add, dot, norm, scale, sub, unit, Vec3};
 use crate::mesh::geometry::{edge_lengths, face_normals};
-use crate::mesh::topology::triangle_regions;
+use crate::mesh::adjacency::Adjacency;
 use crate::mesh::{Mesh, NONE};
 use std::collections::HashMap;
 
@@ -101,7 +101,7 @@ impl<'a> Flanks<'a> {
 fn merge_hollow_regions(mesh: &Mesh, sharp: &mut [bool]) {
     let lengths = edge_lengths(mesh);
     loop {
-        let (region, count) = triangle_regions(mesh, |e| sharp[e as usize]);
+        let (region, count) = Adjacency::new(mesh).regions(|e| sharp[e as usize]);
         let mut on_line: Vec<bool> = (0..mesh.n_vertices() as u32).map(|v| mesh.is_boundary_vertex(v)).collect();
         for e in (0..mesh.n_edges() as u32).filter(|&e| sharp[e as usize]) {
             on_line[mesh.from_vertex(2 * e) as usize] = true;

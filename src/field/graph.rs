@@ -4,8 +4,8 @@
 //! Segments share no vertex except their end nodes, so their curves meet only at nodes. The
 //! boundary is not stored: its vertices are taken, and the nodes on it are kept here.
 
-use super::faces::Adjacency;
 use crate::geom::{dot, sub, unit};
+use crate::mesh::adjacency::Adjacency;
 use crate::mesh::geometry::{edge_lengths, triangle_areas};
 use crate::mesh::{Mesh, NONE};
 use std::sync::Arc;

@@ -9,6 +9,7 @@
 //! [`geometry`], global topology (components, boundary loops, genus) in [`topology`].
 //! Meshes are made by [`build::build_mesh`], which validates and reports repairs.
 
+pub mod adjacency;
 pub mod build;
 pub mod geometry;
 pub mod primitives;

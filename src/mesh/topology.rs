@@ -54,34 +54,6 @@ pub fn vertex_regions(mesh: &Mesh, member: impl Fn(u32) -> bool, joins: impl Fn(
     (region, count as usize)
 }
 
-/// The connected regions of the triangles, joined across the edges for which `cut` does not
-/// hold: the region of each triangle and their count, numbered in the order of their first
-/// triangle.
-pub fn triangle_regions(mesh: &Mesh, cut: impl Fn(u32) -> bool) -> (Vec<u32>, usize) {
-    let mut region = vec![NONE; mesh.n_faces()];
-    let mut count = 0u32;
-    let mut stack = Vec::new();
-    for seed in 0..mesh.n_faces() as u32 {
-        if region[seed as usize] != NONE {
-            continue;
-        }
-        region[seed as usize] = count;
-        stack.push(seed);
-        while let Some(t) = stack.pop() {
-            for k in 0..3 {
-                let h = mesh.face_halfedge(t, k);
-                let u = mesh.face(mesh.twin(h));
-                if u != NONE && region[u as usize] == NONE && !cut(mesh.edge(h)) {
-                    region[u as usize] = count;
-                    stack.push(u);
-                }
-            }
-        }
-        count += 1;
-    }
-    (region, count as usize)
-}
-
 /// Walks every boundary loop and floods every component.
 pub fn topology(mesh: &Mesh) -> Topology {
     let nv = mesh.n_vertices();
