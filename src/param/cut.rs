@@ -155,7 +155,99 @@ pub fn cut_mesh(mesh: &Mesh, layout: &SurfaceLayout) -> CutMesh {
         }
     }
     out.vertex_face = vertex_face;
+    split_chords(&mut out, &segment, &chart_sides(layout));
     out
+}
+
+/// The chart sides each layout vertex lies on, per face: bit s for side s (0..4, from corner
+/// s to corner s + 1). A curve lies on one side of each of its faces; a node on the side it
+/// is a T-vertex of, or on the two that meet at it as a corner.
+struct ChartSides {
+    curve: HashMap<(u32, u32), u8>,
+    node: HashMap<(u32, u32), u8>,
+}
+
+impl ChartSides {
+    /// The sides of face `face` that vertex `v` of `out` lies on (none if it is off the layout).
+    fn of(&self, out: &CutMesh, v: u32, face: u32) -> u8 {
+        let (c, n) = (out.vertex_curve[v as usize], out.vertex_node[v as usize]);
+        if n != NONE {
+            self.node.get(&(n, face)).copied().unwrap_or(0)
+        } else if c != NONE {
+            self.curve.get(&(c, face)).copied().unwrap_or(0)
+        } else {
+            0
+        }
+    }
+}
+
+fn chart_sides(layout: &SurfaceLayout) -> ChartSides {
+    let mut sides = ChartSides { curve: HashMap::new(), node: HashMap::new() };
+    for (f, face) in layout.faces.iter().enumerate() {
+        let f = f as u32;
+        for (k, (piece, &node)) in face.pieces.iter().zip(&face.nodes).enumerate() {
+            let s = face.corners.iter().rposition(|&c| c <= k).unwrap_or(0);
+            let bits = if face.corners.contains(&k) { 1 << s | 1 << ((s + 3) % 4) } else { 1 << s };
+            *sides.curve.entry((piece.curve, f)).or_default() |= 1 << s;
+            *sides.node.entry((node, f)).or_default() |= bits;
+        }
+    }
+    sides
+}
+
+/// Splits at its midpoint every edge inside a face between two vertices on one side of its
+/// chart (a chord of that side): Tutte's condition for a harmonic map into a convex chart to
+/// be an embedding. A triangle whose three vertices lie on one chart side, as where a curve
+/// runs along two edges of a triangle or past a T-vertex with a triangle on both of its
+/// pieces, is otherwise squeezed to a line by the side's straightness: on bunny_28k's
+/// automatic layout, all 8 triangles still flipped after the curves were kept in order were
+/// such. The midpoint is a vertex of the face, placed off the side by the solve. The surface
+/// is unchanged (the chord is an input edge or lies in an input triangle).
+///
+/// Chords between two sides are left: their triangles have area in the chart, and next to a
+/// corner whose surface angle is near 180° their midpoint would sit almost on the corner,
+/// in triangles so obtuse that their negative weights fold them (bunny-ears' loop flipped 17
+/// triangles when every chord was split).
+fn split_chords(out: &mut CutMesh, segment: &HashMap<(u32, u32), (u32, bool)>, sides: &ChartSides) {
+    let on_layout = |v: u32| out.vertex_curve[v as usize] != NONE || out.vertex_node[v as usize] != NONE;
+    let chord = |a: u32, b: u32| on_layout(a) && on_layout(b) && !segment.contains_key(&(a, b));
+    let mut holder: HashMap<(u32, u32), usize> = HashMap::new();
+    for (t, tri) in out.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            if chord(a, b) {
+                holder.insert((a, b), t);
+            }
+        }
+    }
+    let mut chords: Vec<(u32, u32)> = holder.keys().copied().filter(|&(a, b)| a < b && holder.contains_key(&(b, a))).collect();
+    chords.sort_unstable();
+    for (a, b) in chords {
+        let (t1, t2) = (holder[&(a, b)], holder[&(b, a)]);
+        let face = out.triangle_face[t1];
+        if out.triangle_face[t2] != face || sides.of(out, a, face) & sides.of(out, b, face) == 0 {
+            continue;
+        }
+        let m = out.positions.len() as u32;
+        let (pa, pb) = (out.positions[a as usize], out.positions[b as usize]);
+        out.positions.push(std::array::from_fn(|k| 0.5 * (pa[k] + pb[k])));
+        out.vertex_curve.push(NONE);
+        out.vertex_node.push(NONE);
+        out.vertex_face.push(face);
+        // t1 = (a, b, p) becomes (a, m, p) and (m, b, p); t2 = (b, a, q), (b, m, q) and (m, a, q).
+        for (t, x, y) in [(t1, a, b), (t2, b, a)] {
+            let tri = out.triangles[t];
+            let k = (0..3).find(|&k| tri[k] == x).unwrap_or(0);
+            let p = tri[(k + 2) % 3];
+            out.triangles[t] = [x, m, p];
+            out.triangles.push([m, y, p]);
+            out.triangle_face.push(face);
+            out.triangle_origin.push(out.triangle_origin[t]);
+            if let Some(h) = holder.get_mut(&(y, p)) {
+                *h = out.triangles.len() - 1;
+            }
+        }
+    }
 }
 
 /// The boundary of input triangle `f`, counter-clockwise: its corners with the crossing

@@ -123,7 +123,7 @@ pub fn solve_eq3(cut: &CutMesh, aligned: &[bool], frames: &ChartFrames, weights:
     let mut z = rhs;
     solve_lu(n, &entries, &values, &mut z)?;
     let corner_uv = exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect();
-    Ok(Solution { corner_uv })
+    Ok(Solution { corner_uv, unknowns: Vec::new() })
 }
 
 #[cfg(test)]

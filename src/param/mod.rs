@@ -3,8 +3,11 @@
 //! [`ParamSession`] runs the loop of Section 3.1: all layout edges aligned and unit charts,
 //! an initial solve; then per iteration every chart optimized on its own ([`chart`]),
 //! transitions rebuilt ([`transition`]) and the global system solved again ([`system`]);
-//! finally the user's alignment tags restored and a last solve. The browser runs one
-//! iteration per call; the command line runs them all.
+//! finally the user's alignment tags restored and a last solve, mended where it folds
+//! triangles (curve vertices put back in order along their sides, [`order`]; no negative edge
+//! weight next to the layout). The browser runs one iteration per call; the command line runs
+//! them all. The refined mesh ([`cut`]) has no chord, an edge inside a face between two
+//! vertices on the layout, so no triangle has its three vertices on one straight side.
 //!
 //! # Where each equation of the paper lives
 //!
@@ -32,6 +35,7 @@ pub mod frames;
 #[cfg(feature = "eq3")]
 pub mod eq3;
 pub mod input_uv;
+pub mod order;
 pub mod system;
 pub mod transition;
 
@@ -206,6 +210,10 @@ struct FaceDomain {
 /// to a side ratio of 1e9). The sound charts of the shared meshes' layouts stay within 10.
 const SHAPE_BOUND: f64 = 16.0;
 
+/// The final solve is mended this many times at most for curve vertices out of order
+/// ([`ParamSession::mend`]).
+const ORDER_ROUNDS: usize = 3;
+
 /// The state of a parameterization: refined mesh, charts, factorizations, history.
 pub struct ParamSession {
     cut: CutMesh,
@@ -259,7 +267,7 @@ impl ParamSession {
     pub fn new(mesh: &Mesh, layout: &SurfaceLayout, options: &ParamOptions) -> Result<ParamSession, ParamError> {
         let t0 = now();
         let mut session = ParamSession::unsolved(mesh, layout, options)?;
-        let sol = session.solve(None)?;
+        let sol = session.solve(None, &[], None)?;
         let distortion = session.distortion(&sol);
         session.last = sol;
         session.history.push(IterationStats { iteration: 0, distortion, seconds: now() - t0 });
@@ -338,7 +346,7 @@ impl ParamSession {
             options: *options,
             user_tags,
             history: Vec::new(),
-            last: Solution { corner_uv: Vec::new() },
+            last: Solution { corner_uv: Vec::new(), unknowns: Vec::new() },
             final_solution: None,
             anderson: anderson::Anderson::new(options.anderson_depth),
             step_share: 1.0,
@@ -370,7 +378,9 @@ impl ParamSession {
 
     /// A solve with every curve aligned (`None`, the loop's), or the final one with the
     /// user's tags and that share of every untagged curve's ends held on its side.
-    fn solve(&mut self, final_anchor: Option<f64>) -> Result<Solution, ParamError> {
+    /// `pins` hold some unknowns near given values ([`System::out_of_order`]); `weights`, if
+    /// given, replace the cotangent weights (see [`ParamSession::mend`]).
+    fn solve(&mut self, final_anchor: Option<f64>, pins: &[(u32, f64)], weights: Option<&[[f64; 3]]>) -> Result<Solution, ParamError> {
         let frames = self.frames();
         #[cfg(feature = "eq3")]
         if self.options.formulation == Formulation::Eq3 {
@@ -387,7 +397,62 @@ impl ParamSession {
             None => (&mut self.all_aligned, Vec::new()),
             Some(anchor) => (&mut self.user_aligned, system::held_on_side(&self.cut, &self.user_tags, anchor)),
         };
-        system.solve(&self.cut, &frames, &self.weights, &held)
+        system.solve(&self.cut, &frames, weights.unwrap_or(&self.weights), &held, pins)
+    }
+
+    /// The system a solve with `final_anchor` uses (see [`ParamSession::solve`]), and the
+    /// vertices it holds on their sides.
+    fn system_for(&self, final_anchor: Option<f64>) -> (&System, Vec<bool>) {
+        match final_anchor {
+            None => (&self.all_aligned, Vec::new()),
+            Some(anchor) => (&self.user_aligned, system::held_on_side(&self.cut, &self.user_tags, anchor)),
+        }
+    }
+
+    /// `sol` (solved with `final_anchor`, flipping `d.flipped` triangles) mended where it
+    /// folds. First the curve vertices it put out of order along their sides are held at the
+    /// nearest places in order and the system solved again (see `order`): at most
+    /// [`ORDER_ROUNDS`] times while that flips fewer triangles, as a vertex freed of its
+    /// neighbour's fold may leave the order next. If some still flip, once more with no
+    /// negative edge weight next to the layout ([`system::without_negative_edges`]). Each
+    /// step is kept only if it flips fewer. Only the final solution is mended: the charts and
+    /// the sample counts come from the loop as before, so the quads move only round the mend.
+    fn mend(&mut self, final_anchor: Option<f64>, sol: Solution, d: Distortion) -> Result<(Solution, Distortion), ParamError> {
+        let mut pins: Vec<(u32, f64)> = Vec::new();
+        let mut unknowns = sol.unknowns.clone();
+        let mut best = (sol, d);
+        for _ in 0..ORDER_ROUNDS {
+            if best.1.flipped == 0 || unknowns.is_empty() {
+                break;
+            }
+            let (system, held) = self.system_for(final_anchor);
+            let out = system.out_of_order(&self.cut, &held, &unknowns);
+            if out.is_empty() {
+                break;
+            }
+            for (i, share) in out {
+                match pins.iter_mut().find(|p| p.0 == i) {
+                    Some(p) => p.1 = share,
+                    None => pins.push((i, share)),
+                }
+            }
+            let sol = self.solve(final_anchor, &pins, None)?;
+            let d = self.distortion(&sol);
+            unknowns = sol.unknowns.clone();
+            if d.flipped >= best.1.flipped {
+                break;
+            }
+            best = (sol, d);
+        }
+        if best.1.flipped > 0 && !unknowns.is_empty() {
+            let weights = system::without_negative_edges(&self.cut, &self.weights);
+            let sol = self.solve(final_anchor, &pins, Some(&weights))?;
+            let d = self.distortion(&sol);
+            if d.flipped < best.1.flipped {
+                best = (sol, d);
+            }
+        }
+        Ok(best)
     }
 
     fn distortion(&self, sol: &Solution) -> Distortion {
@@ -469,7 +534,7 @@ impl ParamSession {
         let accelerated = self.within_shape_bound(&start, &accelerated);
         self.charts = self.between(&start, &accelerated, self.step_share);
         let valid = self.charts.iter().all(|c| c.is_convex() && c.x[0] > 0.0);
-        let accepted = if valid { self.solve(None).ok() } else { None }
+        let accepted = if valid { self.solve(None, &[], None).ok() } else { None }
             .map(|sol| {
                 let d = self.distortion(&sol);
                 (sol, d)
@@ -481,7 +546,7 @@ impl ParamSession {
                 // Fall back to the paper's plain step.
                 self.anderson.reset();
                 self.charts = self.between(&start, &fitted, self.step_share);
-                let sol = self.solve(None)?;
+                let sol = self.solve(None, &[], None)?;
                 let d = self.distortion(&sol);
                 (sol, d)
             }
@@ -559,7 +624,7 @@ impl ParamSession {
         let mut best = (sol, d, full.clone(), 1.0);
         for share in self.options.step_shares {
             self.charts = self.between(start, &full, share);
-            let sol = self.solve(None)?;
+            let sol = self.solve(None, &[], None)?;
             let d = self.distortion(&sol);
             if d.flipped < best.1.flipped {
                 best = (sol, d, self.charts.clone(), share);
@@ -588,28 +653,33 @@ impl ParamSession {
     /// more triangles than the all-aligned one before it, the curves' ends are kept on their
     /// sides over a growing share of their vertices ([`ParamOptions::final_anchors`]) until it does not, or
     /// until a larger share stops lowering the count (then more will not help); the last
-    /// resort aligns every curve, which is the all-aligned solve itself (reused). So the final
-    /// solve never flips more than the optimization phase, and keeps the user's freedom
-    /// wherever it can.
+    /// resort aligns every curve, which is the all-aligned solve itself (reused). Either is
+    /// then mended where it put curve vertices out of order along their sides
+    /// ([`ParamSession::mend`]), and the loop's solve is compared mended: so the final
+    /// solve never flips more than the optimization phase mended, and keeps the user's
+    /// freedom wherever it can.
     ///
     /// # Errors
     /// [`ParamError`] from the solve.
     pub fn finish(&mut self) -> Result<Distortion, ParamError> {
+        let (sol, d) = self.all_aligned_result();
+        let aligned = self.mend(None, sol, d)?;
         if self.user_tags.iter().all(|&t| t) {
             // Every curve tagged: the final system is the one the last solve used, with the
-            // same charts; its solution stands (no second factorization).
-            let (sol, d) = self.all_aligned_result();
-            self.final_solution = Some((sol, d));
+            // same charts; its solution stands (no second factorization unless mended).
+            let d = aligned.1;
+            self.final_solution = Some(aligned);
             return Ok(d);
         }
-        let before = self.history.last().map_or(0, |h| h.distortion.flipped);
+        let before = aligned.1.flipped;
         // Eq. 3 (a comparison) is solved as the paper states it, without anchors.
         let final_anchors = self.options.final_anchors;
         #[cfg(feature = "eq3")]
         let anchors: &[f64] = if self.options.formulation == Formulation::Symmetric { &final_anchors } else { &[] };
         #[cfg(not(feature = "eq3"))]
         let anchors: &[f64] = &final_anchors;
-        let mut sol = self.solve(Some(0.0))?;
+        let mut used = 0.0;
+        let mut sol = self.solve(Some(used), &[], None)?;
         let mut d = self.distortion(&sol);
         let mut fewest = usize::MAX;
         for &anchor in anchors {
@@ -619,13 +689,13 @@ impl ParamSession {
                 break;
             }
             fewest = d.flipped;
-            sol = self.solve(Some(anchor))?;
+            used = anchor;
+            sol = self.solve(Some(used), &[], None)?;
             d = self.distortion(&sol);
         }
-        if d.flipped > before && !anchors.is_empty() {
-            (sol, d) = self.all_aligned_result();
-        }
-        self.final_solution = Some((sol, d));
+        let chosen = if d.flipped > before && !anchors.is_empty() { aligned } else { self.mend(Some(used), sol, d)? };
+        let d = chosen.1;
+        self.final_solution = Some(chosen);
         Ok(d)
     }
 

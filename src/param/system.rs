@@ -17,18 +17,28 @@
 //! that satisfy it — which is what eq. 12 computes, with the relaxed harmonic rows being
 //! the vertices' energy gradients.
 //!
+//! A solve may also hold some curve vertices near given shares of their sides (`pins`, a
+//! penalty on the diagonal, so the pattern stays): those a solve put out of order along them
+//! (see `order`).
+//!
 //! Why this formulation and not eq. 3 as written: `docs/formulations.md` compares the two on
 //! the known answers and the sample layouts (`cargo test --test param_formulations`).
 
 use super::cut::CutMesh;
 use super::frames::ChartFrames;
+use super::order::nearest_in_order;
 use super::transition::Affine;
 use crate::geom::{cotangent, perp2};
 use crate::clock::now;
 use crate::culprits::Culprits;
 use crate::mesh::NONE;
 use crate::solve::{SolveError, SpdSolver};
+use std::collections::HashMap;
 use std::fmt;
+
+/// How strongly a pinned curve vertex is held at its share of the side: this many times its
+/// own diagonal of the system.
+const PIN: f64 = 100.0;
 
 /// The unknowns of one vertex.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -282,6 +292,40 @@ pub fn cotangent_halves(cut: &CutMesh) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// `halves` ([`cotangent_halves`]) with the weight of every edge between two triangles that
+/// touch the layout (a curve vertex or a node) made at least zero: where the two corners
+/// facing such an edge add up to more than 180° (it is not Delaunay, as on slivers), its
+/// negative half is raised until the sum is zero (both halves to zero if both are negative).
+///
+/// A negative edge weight lets the harmonic map push a vertex past its neighbours, and next
+/// to a chart side past the side: on eight's automatic layout the three triangles still
+/// flipped after the curves were put in order were round such an edge. With none, each vertex
+/// is a convex combination of its neighbours (Tutte, Floater). Only the final solution is
+/// solved with these (`ParamSession::mend`): raising every negative edge of the mesh for every
+/// solve moved the charts and the quads (nefertiti's angle error 2.3 -> 3.0°). The triangles
+/// that touch the layout are the ones a later solve assembles anew ([`Pattern::varying`]), so
+/// no other term changes.
+pub fn without_negative_edges(cut: &CutMesh, halves: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    let on_layout = |v: u32| cut.vertex_curve[v as usize] != NONE || cut.vertex_node[v as usize] != NONE;
+    let touches: Vec<bool> = cut.triangles.iter().map(|t| t.iter().any(|&v| on_layout(v))).collect();
+    // Corner k of a triangle faces its edge from vertex k + 1 to k + 2.
+    let mut facing: HashMap<(u32, u32), (usize, usize)> = HashMap::new();
+    for (t, tri) in cut.triangles.iter().enumerate().filter(|&(t, _)| touches[t]) {
+        for k in 0..3 {
+            facing.insert((tri[(k + 1) % 3], tri[(k + 2) % 3]), (t, k));
+        }
+    }
+    let mut out = halves.to_vec();
+    for (&(a, b), &(t, k)) in &facing {
+        let Some(&(u, j)) = facing.get(&(b, a)) else { continue };
+        let (x, y) = (halves[t][k], halves[u][j]);
+        if a < b && x + y < 0.0 {
+            (out[t][k], out[u][j]) = if x < 0.0 && y < 0.0 { (0.0, 0.0) } else if x < 0.0 { (-y, y) } else { (x, -x) };
+        }
+    }
+    out
+}
+
 /// Seconds spent in each stage of the solves so far, and how many numeric factorizations
 /// they made (for benchmarks: each costs the most of any stage).
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize)]
@@ -354,13 +398,17 @@ struct Assembly<'a> {
     exprs: &'a [[Expr; 3]],
     weights: &'a [[f64; 3]],
     held: &'a [bool],
+    /// Unknowns held near these values ([`System::out_of_order`]).
+    pins: &'a [(u32, f64)],
 }
 
-/// Per-triangle chart coordinates of a solve, and per-vertex coordinates in their own chart.
+/// Per-triangle chart coordinates of a solve, and the unknowns they came from.
 #[derive(Debug, Clone)]
 pub struct Solution {
     /// `corner_uv[t][k]`: vertex k of triangle t in the chart of the triangle's face.
     pub corner_uv: Vec<[[f64; 2]; 3]>,
+    /// The system's unknowns (empty where no [`System`] solved it).
+    pub unknowns: Vec<f64>,
 }
 
 /// Whether columns `x` and `y` of two expressions' matrices can give a nonzero product
@@ -441,7 +489,7 @@ impl System {
     /// The first solve's assembly: every candidate entry, the pattern kept, the symbolic
     /// and numeric factorization.
     fn first_solve(&mut self, a: &Assembly, rhs: &mut [f64], t0: f64) -> Result<(), ParamError> {
-        let Assembly { cut, exprs, weights, held } = *a;
+        let Assembly { cut, exprs, weights, held, pins } = *a;
         // Afresh: a first solve whose factorization failed left a partial pattern.
         self.pattern = Pattern::default();
         let p = &mut self.pattern;
@@ -506,6 +554,12 @@ impl System {
             entries.push((i, i));
         }
         values.extend(self.held_values(cut, held));
+        // Slot i is unknown i's diagonal.
+        for &(i, share) in pins {
+            let w = PIN * values[i as usize];
+            values[i as usize] += w;
+            rhs[i as usize] += w * share;
+        }
         let t1 = now();
         self.times.assembly += t1 - t0;
         let mut solver = SpdSolver::new(self.n_unknowns, &entries)?;
@@ -536,7 +590,7 @@ impl System {
     /// A later solve's assembly: the constant sums plus the varying triangles, then the
     /// numeric factorization.
     fn later_solve(&mut self, a: &Assembly, rhs: &mut [f64], t0: f64) -> Result<(), ParamError> {
-        let Assembly { cut, exprs, weights, held } = *a;
+        let Assembly { cut, exprs, weights, held, pins } = *a;
         let p = &self.pattern;
         let mut stored = p.constant.clone();
         for (&t, ex) in p.varying.iter().zip(exprs) {
@@ -555,6 +609,12 @@ impl System {
         let first_held = *p.value_start.last().unwrap_or(&0) as usize;
         for (k, value) in self.held_values(cut, held).enumerate() {
             stored[p.slot[first_held + k] as usize] += value;
+        }
+        for &(i, share) in pins {
+            let slot = p.slot[i as usize] as usize;
+            let w = PIN * stored[slot];
+            stored[slot] += w;
+            rhs[i as usize] += w * share;
         }
         let t1 = now();
         self.times.assembly += t1 - t0;
@@ -592,6 +652,40 @@ impl System {
         self.released(cut).map(move |(v, _)| if held.get(v) == Some(&true) { 1.0 } else { 0.0 })
     }
 
+    /// The unknowns of the curve vertices that `z` puts out of order along their chart side
+    /// (at or behind an earlier one, or past an end, short of the least gap), each with the
+    /// nearest share in order ([`nearest_in_order`]). Only curves whose vertices all lie on
+    /// their side (aligned, or held as `held` tells) count.
+    pub fn out_of_order(&self, cut: &CutMesh, held: &[bool], z: &[f64]) -> Vec<(u32, f64)> {
+        let along = |v: u32| match self.vars[v as usize] {
+            Var::OnSide(i) => Some(i),
+            Var::Free(i) if held.get(v as usize) == Some(&true) => Some(i),
+            _ => None,
+        };
+        let mut pins = Vec::new();
+        for verts in &cut.curve_vertices {
+            if verts.len() < 3 {
+                continue;
+            }
+            let inner = &verts[1..verts.len() - 1];
+            let Some(unknowns) = inner.iter().map(|&v| along(v)).collect::<Option<Vec<u32>>>() else { continue };
+            let mut length: Vec<f64> = verts
+                .windows(2)
+                .map(|w| crate::geom::norm(crate::geom::sub(cut.positions[w[1] as usize], cut.positions[w[0] as usize])))
+                .collect();
+            let total: f64 = length.iter().sum();
+            if total <= 0.0 {
+                continue;
+            }
+            length.iter_mut().for_each(|l| *l /= total);
+            let s: Vec<f64> = unknowns.iter().map(|&i| z[i as usize]).collect();
+            if let Some(fixed) = nearest_in_order(&s, &length) {
+                pins.extend(unknowns.iter().zip(s.iter().zip(fixed)).filter(|(_, (a, b))| (*a - b).abs() > 1e-12).map(|(&i, (_, b))| (i, b)));
+            }
+        }
+        pins
+    }
+
     /// What a first [`System::solve`] meets before its factorization: the error of the first
     /// vertex that has no place in its triangle's chart (a mesh too coarse for the layout).
     ///
@@ -605,11 +699,11 @@ impl System {
     /// Assembles and solves the system in the charts of `frames` (node positions and
     /// transitions), with the refined mesh's [`cotangent_halves`] as `weights`, holding the
     /// vertices `held` on their chart sides (see [`held_on_side`]; aligned curves' always
-    /// are, and an empty `held` holds no others).
+    /// are, and an empty `held` holds no others), and `pins` near their values.
     ///
     /// # Errors
     /// [`ParamError`]: a failed factorization, or a mesh too coarse for the layout.
-    pub fn solve(&mut self, cut: &CutMesh, frames: &ChartFrames, weights: &[[f64; 3]], held: &[bool]) -> Result<Solution, ParamError> {
+    pub fn solve(&mut self, cut: &CutMesh, frames: &ChartFrames, weights: &[[f64; 3]], held: &[bool], pins: &[(u32, f64)]) -> Result<Solution, ParamError> {
         let t0 = now();
         let own = own_exprs(cut, &self.vars, frames, held)?;
         let exprs_of = |t: usize| triangle_exprs(cut, frames, &own, t);
@@ -622,7 +716,7 @@ impl System {
             self.pattern.varying.iter().map(|&t| exprs_of(t as usize)).collect::<Result<Vec<_>, _>>()?
         };
         let mut rhs = vec![0.0; self.n_unknowns];
-        let assembly = Assembly { cut, exprs: &exprs, weights, held };
+        let assembly = Assembly { cut, exprs: &exprs, weights, held, pins };
         let factored = if first {
             self.first_solve(&assembly, &mut rhs, t0)
         } else {
@@ -636,7 +730,7 @@ impl System {
         }
         self.times.solve += now() - t3;
         if first {
-            return Ok(Solution { corner_uv: exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect() });
+            return Ok(Solution { corner_uv: exprs.iter().map(|ex| ex.map(|e| e.eval(&z))).collect(), unknowns: z });
         }
         let mut varying = self.pattern.varying.iter().zip(&exprs).peekable();
         let corner_uv = cut
@@ -648,6 +742,6 @@ impl System {
                 None => tri.map(|v| own[v as usize].map_or([0.0, 0.0], |e| e.eval(&z))),
             })
             .collect();
-        Ok(Solution { corner_uv })
+        Ok(Solution { corner_uv, unknowns: z })
     }
 }
