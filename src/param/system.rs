@@ -679,6 +679,9 @@ impl System {
             }
             length.iter_mut().for_each(|l| *l /= total);
             let s: Vec<f64> = unknowns.iter().map(|&i| z[i as usize]).collect();
+            if s.iter().any(|x| !x.is_finite()) {
+                continue; // a failed solve: nothing to put in order
+            }
             if let Some(fixed) = nearest_in_order(&s, &length) {
                 pins.extend(unknowns.iter().zip(s.iter().zip(fixed)).filter(|(_, (a, b))| (*a - b).abs() > 1e-12).map(|(&i, (_, b))| (i, b)));
             }
