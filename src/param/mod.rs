@@ -417,7 +417,9 @@ impl ParamSession {
     /// negative edge weight next to the layout ([`system::without_negative_edges`]). Each
     /// step is kept only if it flips fewer. Only the final solution is mended: the charts and
     /// the sample counts come from the loop as before, so the quads move only round the mend.
-    fn mend(&mut self, final_anchor: Option<f64>, sol: Solution, d: Distortion) -> Result<(Solution, Distortion), ParamError> {
+    /// A mending solve that fails, or gives values that are not finite, ends the mending:
+    /// `sol` was a result already.
+    fn mend(&mut self, final_anchor: Option<f64>, sol: Solution, d: Distortion) -> (Solution, Distortion) {
         let mut pins: Vec<(u32, f64)> = Vec::new();
         let mut unknowns = sol.unknowns.clone();
         let mut best = (sol, d);
@@ -436,7 +438,7 @@ impl ParamSession {
                     None => pins.push((i, share)),
                 }
             }
-            let sol = self.solve(final_anchor, &pins, None)?;
+            let Some(sol) = self.mending_solve(final_anchor, &pins, None) else { break };
             let d = self.distortion(&sol);
             unknowns = sol.unknowns.clone();
             if d.flipped >= best.1.flipped {
@@ -446,13 +448,19 @@ impl ParamSession {
         }
         if best.1.flipped > 0 && !unknowns.is_empty() {
             let weights = system::without_negative_edges(&self.cut, &self.weights);
-            let sol = self.solve(final_anchor, &pins, Some(&weights))?;
-            let d = self.distortion(&sol);
-            if d.flipped < best.1.flipped {
-                best = (sol, d);
+            if let Some(sol) = self.mending_solve(final_anchor, &pins, Some(&weights)) {
+                let d = self.distortion(&sol);
+                if d.flipped < best.1.flipped {
+                    best = (sol, d);
+                }
             }
         }
-        Ok(best)
+        best
+    }
+
+    /// A solve of [`ParamSession::mend`], if it succeeds with finite values.
+    fn mending_solve(&mut self, final_anchor: Option<f64>, pins: &[(u32, f64)], weights: Option<&[[f64; 3]]>) -> Option<Solution> {
+        self.solve(final_anchor, pins, weights).ok().filter(|sol| sol.unknowns.iter().all(|x| x.is_finite()))
     }
 
     fn distortion(&self, sol: &Solution) -> Distortion {
@@ -663,7 +671,7 @@ impl ParamSession {
     /// [`ParamError`] from the solve.
     pub fn finish(&mut self) -> Result<Distortion, ParamError> {
         let (sol, d) = self.all_aligned_result();
-        let aligned = self.mend(None, sol, d)?;
+        let aligned = self.mend(None, sol, d);
         if self.user_tags.iter().all(|&t| t) {
             // Every curve tagged: the final system is the one the last solve used, with the
             // same charts; its solution stands (no second factorization unless mended).
@@ -693,7 +701,7 @@ impl ParamSession {
             sol = self.solve(Some(used), &[], None)?;
             d = self.distortion(&sol);
         }
-        let chosen = if d.flipped > before && !anchors.is_empty() { aligned } else { self.mend(Some(used), sol, d)? };
+        let chosen = if d.flipped > before && !anchors.is_empty() { aligned } else { self.mend(Some(used), sol, d) };
         let d = chosen.1;
         self.final_solution = Some(chosen);
         Ok(d)
