@@ -393,20 +393,15 @@ impl ParamSession {
             };
             return eq3::solve_eq3(&self.cut, aligned, &frames, &self.weights);
         }
-        let (system, held) = match final_anchor {
-            None => (&mut self.all_aligned, Vec::new()),
-            Some(anchor) => (&mut self.user_aligned, system::held_on_side(&self.cut, &self.user_tags, anchor)),
-        };
+        let held = self.held(final_anchor);
+        let system = if final_anchor.is_some() { &mut self.user_aligned } else { &mut self.all_aligned };
         system.solve(&self.cut, &frames, weights.unwrap_or(&self.weights), &held, pins)
     }
 
-    /// The system a solve with `final_anchor` uses (see [`ParamSession::solve`]), and the
-    /// vertices it holds on their sides.
-    fn system_for(&self, final_anchor: Option<f64>) -> (&System, Vec<bool>) {
-        match final_anchor {
-            None => (&self.all_aligned, Vec::new()),
-            Some(anchor) => (&self.user_aligned, system::held_on_side(&self.cut, &self.user_tags, anchor)),
-        }
+    /// The vertices a solve with `final_anchor` holds on their chart sides besides the
+    /// aligned curves' (see [`ParamSession::solve`]).
+    fn held(&self, final_anchor: Option<f64>) -> Vec<bool> {
+        final_anchor.map_or_else(Vec::new, |anchor| system::held_on_side(&self.cut, &self.user_tags, anchor))
     }
 
     /// `sol` (solved with `final_anchor`, flipping `d.flipped` triangles) mended where it
@@ -421,14 +416,16 @@ impl ParamSession {
     /// `sol` was a result already.
     fn mend(&mut self, final_anchor: Option<f64>, sol: Solution, d: Distortion) -> (Solution, Distortion) {
         let mut pins: Vec<(u32, f64)> = Vec::new();
-        let mut unknowns = sol.unknowns.clone();
         let mut best = (sol, d);
+        if best.0.unknowns.is_empty() {
+            return best; // solved by no `System` (eq. 3, a comparison): nothing to hold
+        }
         for _ in 0..ORDER_ROUNDS {
-            if best.1.flipped == 0 || unknowns.is_empty() {
+            if best.1.flipped == 0 {
                 break;
             }
-            let (system, held) = self.system_for(final_anchor);
-            let out = system.out_of_order(&self.cut, &held, &unknowns);
+            let system = if final_anchor.is_some() { &self.user_aligned } else { &self.all_aligned };
+            let out = system.out_of_order(&self.cut, &self.held(final_anchor), &best.0.unknowns);
             if out.is_empty() {
                 break;
             }
@@ -440,13 +437,12 @@ impl ParamSession {
             }
             let Some(sol) = self.mending_solve(final_anchor, &pins, None) else { break };
             let d = self.distortion(&sol);
-            unknowns = sol.unknowns.clone();
             if d.flipped >= best.1.flipped {
                 break;
             }
             best = (sol, d);
         }
-        if best.1.flipped > 0 && !unknowns.is_empty() {
+        if best.1.flipped > 0 {
             let weights = system::without_negative_edges(&self.cut, &self.weights);
             if let Some(sol) = self.mending_solve(final_anchor, &pins, Some(&weights)) {
                 let d = self.distortion(&sol);
