@@ -7,7 +7,7 @@ use crate::clock::now;
 use crate::culprits::Culprits;
 use crate::io::{write_glb, write_obj, write_ply, Polygons};
 use crate::io::{read_mesh, LoadedMesh, ReadError};
-use crate::field::{compute_field, pick, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings, PRIMARY_TRACINGS};
+use crate::field::{compute_field, pick, Candidate, FieldView, Judged, LayoutOptions, Proposal, ProposeError, Tracings};
 use crate::layout::{build_layout_on, curve, parse_layout, place, write_layout, CurveSource, Layout, LayoutError, LayoutFileError, MeshCounts, Numbering, SurfaceLayout};
 use crate::mesh::{repair_mesh, Mesh, RepairOptions};
 use crate::param::chart::ChartKind;
@@ -292,11 +292,9 @@ impl Session {
     ///
     /// With `tracing: k` only the proposal along the `k`-th tracing is made, and the answer
     /// also has `tracings` (how many there are; `layout` is null when `k` is not below it),
-    /// `primary` (the first that many are the surface's own field's: the others need be made
-    /// only where the one [`pick_suggestion`] keeps of those does not hold the surface),
-    /// `judged`, `holds` (whether its quads hold the surface) and `curves` for
-    /// [`pick_suggestion`], or `error` (and no `layout`): why the proposal along it could not
-    /// be made. The page makes the proposals in workers of their own, at once.
+    /// `judged` and `curves` for [`pick_suggestion`], or `error` (and no `layout`): why the
+    /// proposal along it could not be made. The page makes the proposals in workers of their
+    /// own, at once.
     #[wasm_bindgen(js_name = suggestLayout)]
     pub fn suggest_layout(&mut self, options: JsValue) -> Result<JsValue, Thrown> {
         let (opts, tracing) = layout_options(options, "suggestLayout", &["patches", "featureAngle", "tracing", "quads"], &self.loaded.mesh)?;
@@ -308,9 +306,7 @@ impl Session {
             field: Option<FieldView>,
             note: Option<String>,
             tracings: Option<usize>,
-            primary: Option<usize>,
             judged: Option<Judged>,
-            holds: Option<bool>,
             curves: Option<usize>,
             error: Option<String>,
         }
@@ -323,19 +319,18 @@ impl Session {
         let Some(k) = tracing else {
             return to_js(&made(tracings.propose(mesh, &opts).map_err(failed)?));
         };
-        let (n, primary) = (Some(tracings.count()), Some(PRIMARY_TRACINGS));
+        let n = Some(tracings.count());
         if k >= tracings.count() {
-            return to_js(&Suggestion { tracings: n, primary, ..Default::default() });
+            return to_js(&Suggestion { tracings: n, ..Default::default() });
         }
         // A tracing that makes no layout is an answer: another one may.
         let c = match tracings.candidate(mesh, k, &opts) {
             Ok(c) => c,
-            Err(e) => return to_js(&Suggestion { tracings: n, primary, error: Some(e.to_string()), ..Default::default() }),
+            Err(e) => return to_js(&Suggestion { tracings: n, error: Some(e.to_string()), ..Default::default() }),
         };
         let (judged, curves) = c.summary();
-        let holds = Some(judged.is_some_and(|j| j.holds()));
         let p = Proposal { layout: c.layout, field: tracings.field.clone(), surface: c.surface };
-        to_js(&Suggestion { tracings: n, primary, judged, holds, curves: Some(curves), ..made(p) })
+        to_js(&Suggestion { tracings: n, judged, curves: Some(curves), ..made(p) })
     }
 
     /// The last step of a suggestion made apart (`suggestLayout` with `tracing` in workers,

@@ -126,17 +126,14 @@ export const MSG = Object.freeze({
    *                      user asked for a count (the proposals are judged by their quads
    *                      there, as `quadlay remesh --layout auto --quads N` judges them),
    *                      tracing?: number — only the proposal along this tracing (the core
-   *                      makes one per tracing, 5, and keeps the best), for
+   *                      makes one per tracing, 6, and keeps the best), for
    *                      PICK_SUGGESTION: workers make them at once } }
    * result: { text: string — the layout file (format v1), field: CrossField (the field it was
    *           made from, as FIELD gives it), seconds: number (in the worker),
    *           note: string | null — when the faces are far from the patches asked, why }
    *         with `tracing` also { tracings: number (how many there are; text and field are
-   *           null when `tracing` is not below it), primary: number (the first that many are
-   *           the surface's own field's; the others need be made only where the one
-   *           PICK_SUGGESTION keeps of those does not hold the surface),
-   *           judged: { hausdorff, score, folded, edges } | null, holds: boolean (its quads
-   *           miss the surface by at most an edge length and fold none), curves: number,
+   *           null when `tracing` is not below it), judged: { hausdorff, score, folded } | null,
+   *           curves: number,
    *           error: string | null (why this tracing made no layout; text and field are then
    *           null) }
    * On error: why no valid layout could be made, in words.

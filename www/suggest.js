@@ -6,8 +6,7 @@
 // The core makes one proposal per tracing (along the field, along the iso-lines of its two
 // seamless parameterizations, along the smoothest field and along two fields in smoothed
 // frames) and keeps the best. With more than one processor they are made at once in WORKERS
-// workers (the last three only where none of the first three holds the surface): helper
-// workers beside the page's load the mesh too, and the core picks the one it would have kept
+// workers: helper workers beside the page's load the mesh too, and the core picks the one it would have kept
 // (the same layout as one request makes). The progress line counts the seconds, and Cancel
 // stops the helpers and restarts the page's worker (it gets the mesh and the placed layout
 // again), as the solve's Cancel does for a long step.
@@ -216,24 +215,15 @@ export class Suggester {
     const made = [];
     const pick = () => this.client.pickSuggestion(made.map((a) => (a?.text == null ? null : { judged: a.judged, curves: a.curves })));
     try {
-      // Worker j makes tracings from + j, from + j + workers, … below `to` (null: the first
-      // answer's `primary`, the surface's own field's) while there are that many.
-      const run = async (client, j, from, to) => {
-        for (let k = from + j; k < (to ?? Infinity); k += workers) {
+      // Worker j makes tracings j, j + workers, … while there are that many.
+      const run = async (client, j) => {
+        for (let k = j; ; k += workers) {
           const answer = await client.suggestLayout({ ...options, tracing: k });
           if (answer.tracings <= k) return;
           made[k] = answer;
-          to ??= answer.primary;
         }
       };
-      const each = (from, to) =>
-        Promise.all([run(this.client, 0, from, to), ...helpers.map((h, i) => h.then((client) => run(client, i + 1, from, to)))]);
-      await each(0, null);
-      // The others only where the one kept of those does not hold the surface: the core
-      // keeps it whatever they make.
-      const first = made.find(Boolean);
-      const held = await pick();
-      if (first && !(held != null && made[held].holds)) await each(first.primary, first.tracings);
+      await Promise.all([run(this.client, 0), ...helpers.map((h, i) => h.then((client) => run(client, i + 1)))]);
     } catch (err) {
       // A helper that failed, or no field: one request does it all, or says why not.
       if (token.cancelled) throw err;

@@ -88,9 +88,9 @@ const handlers = {
   [MSG.SUGGEST]({ options = {} }) {
     if (!session) throw new Error('load a mesh first');
     const t0 = performance.now();
-    const { layout, field, note, tracings, primary, judged, holds, curves, error } = session.suggestLayout(options);
+    const { layout, field, note, tracings, judged, curves, error } = session.suggestLayout(options);
     const seconds = (performance.now() - t0) / 1000;
-    const apart = tracings == null ? {} : { tracings, primary, judged: judged ?? null, holds: holds ?? false, curves: curves ?? 0, error: error ?? null };
+    const apart = tracings == null ? {} : { tracings, judged: judged ?? null, curves: curves ?? 0, error: error ?? null };
     if (layout == null) return { result: { text: null, field: null, seconds, note: null, ...apart } };
     const view = fieldView(field);
     return { result: { text: layout, field: view, seconds, note: note ?? null, ...apart }, transfer: [view.directions.buffer] };

@@ -15,7 +15,6 @@
 //! tell them apart (their order disagreed with the quads' on four of twelve meshes); the
 //! quads do.
 
-use super::diagonal;
 use crate::layout::SurfaceLayout;
 use crate::mesh::Mesh;
 use crate::param::{ParamOptions, ParamSession};
@@ -36,25 +35,6 @@ pub struct Judged {
     /// How many of them are folded.
     #[serde(default)]
     pub folded: usize,
-    /// Their Hausdorff distance in their edge lengths.
-    #[serde(default)]
-    pub edges: f64,
-}
-
-/// Quads that miss the surface by at most this many of their edge lengths, and fold none,
-/// hold it ([`Judged::holds`]): where the best proposal of the surface's own field does, the
-/// smoothed fields' proposals (`SMOOTHINGS` in [`super::propose`]) are not made. They are made
-/// to mend layouts that miss, and cost time (bunny_28k's layout took 1.7 times as long with
-/// them) and, judged at another density than the remesh's, now and then a layout that was
-/// fine (CGAL's blade and handle, made always: 0.30 → 0.43 % and 0.76 → 0.49 % of the
-/// diagonal, 1.9 → 0.9° and 4.8 → 6.4°).
-const HOLDS_EDGES: f64 = 1.0;
-
-impl Judged {
-    /// Whether these quads hold the surface ([`HOLDS_EDGES`]).
-    pub fn holds(&self) -> bool {
-        self.folded == 0 && self.edges <= HOLDS_EDGES
-    }
 }
 
 /// A proposal whose quads miss the surface by more than this many times the closest
@@ -98,8 +78,7 @@ pub fn judge(mesh: &Mesh, layout: &SurfaceLayout, edge_length: f64) -> Option<Ju
     let asked = edge_length_for_quads(mesh, 1.0).powi(2) / (edge_length * edge_length);
     let over = (q.faces as f64 / ((1.0 + COUNT_SLACK) * asked)).max(1.0);
     let score = q.hausdorff * q.angle_deviation_mean_deg.max(1e-3) * (1.0 + q.flipped_quads as f64) * over;
-    let edges = q.hausdorff * diagonal(mesh) / edge_length;
-    (score.is_finite() && q.hausdorff.is_finite()).then_some(Judged { hausdorff: q.hausdorff, score, folded: q.flipped_quads, edges })
+    (score.is_finite() && q.hausdorff.is_finite()).then_some(Judged { hausdorff: q.hausdorff, score, folded: q.flipped_quads })
 }
 
 /// Scores this close to the best (relatively) are a tie: the remesh's noise, not the layout
@@ -124,7 +103,7 @@ mod tests {
     use super::*;
 
     fn judged(hausdorff: f64, score: f64) -> Option<Judged> {
-        Some(Judged { hausdorff, score, folded: 0, edges: 1.0 })
+        Some(Judged { hausdorff, score, folded: 0 })
     }
 
     /// The lowest score wins among the proposals near the surface; one far from it loses

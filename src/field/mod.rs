@@ -29,7 +29,7 @@ pub use complex::Complex;
 pub use features::{find_features, Features};
 pub use frames::Frames;
 pub use judge::Judged;
-pub use propose::{pick, propose_layout, with_corners_chosen, Candidate, LayoutOptions, Proposal, ProposeError, Tracings, PRIMARY_TRACINGS};
+pub use propose::{pick, propose_layout, with_corners_chosen, Candidate, LayoutOptions, Proposal, ProposeError, Tracings};
 pub use singularities::{singularities, Singularity};
 
 use crate::geom::{norm, sub};

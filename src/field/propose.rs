@@ -12,7 +12,7 @@
 //!    proposal is made six times, the streamlines along the field, along the iso-lines of
 //!    its two seamless parameterizations ([`super::seamless`]), along the smoothest field
 //!    ([`compute_unguided_field`]) and along two fields in smoothed frames ([`SMOOTHINGS`]),
-//!    and the layout whose quads come out best is kept ([`judge`]).
+//!    all at once, and the layout whose quads come out best is kept ([`judge`], [`pick`]).
 //! 4. Repairs until every face is what the layout reader accepts ([`analyze`]): a face that is
 //!    not a disk (a ring round a limb, a handle, a sphere without singularities) gets a cross
 //!    of traces from its deepest vertex, and where a few rounds of those miss, shortest arcs
@@ -201,8 +201,8 @@ const JUDGE_SHARE: f64 = 0.5;
 /// are diffused over these shares of the diagonal ([`compute_smoothed_field`]). The
 /// proposals are chaotic (a field that moves a singularity a little changes the whole layout)
 /// and the judge tells the good from the bad, so two more, whose singularities are where the
-/// smoothed surface turns, mend layouts that the three others spoil; they are made only
-/// where those do not hold the surface ([`pick`]). Measured at 4000 quads over 55 meshes (the
+/// smoothed surface turns, mend layouts that the three others spoil. Measured, when they were
+/// made only where none of the three others held the surface, at 4000 quads over 55 meshes (the
 /// seven shared ones, 19 of CGAL's used while the proposal was tuned and 29 of CGAL's that
 /// were not): geometric-mean Hausdorff distance 1.215 → 1.129 % of the diagonal, mean angle
 /// deviation 7.70 → 7.70°, 4 % more irregular vertices, 151 folded quads where 143 were. On
@@ -210,7 +210,8 @@ const JUDGE_SHARE: f64 = 0.5;
 /// 1.8 %, three_peaks 3.4 → 1.1 %, ChineseDragon 5.4 → 3.0 %); on the 26 others 1.355 →
 /// 1.371 % (bunny_1k8 2.10 → 1.54 %, 5.0 → 4.5°, 87 → 48 irregular vertices; camel 2.8 →
 /// 1.6 %; elk 1.9 → 4.4 %, whose judge, at a coarser density, found the smoothed field's
-/// layout nearer). With one field (1 %, always made) the 55 gave 1.166 %.
+/// layout nearer). With one field (1 %, always made) the 55 gave 1.166 %. They are made always
+/// now ([`Tracings::propose`]).
 const SMOOTHINGS: [f64; 2] = [0.01, 0.02];
 
 /// Proposes a coarse quad layout for `mesh`; see the module documentation.
@@ -226,26 +227,25 @@ pub fn propose_layout(mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, 
 /// of its two seamless parameterizations (none where their factorization fails), the
 /// smoothest field of the same constraints ([`compute_unguided_field`]), and the fields in
 /// frames smoothed over each of [`SMOOTHINGS`] (none where a factorization fails); the
-/// layout whose quads come out best is kept ([`judge`]).
+/// layout whose quads come out best is kept ([`judge`], [`pick`]).
 pub struct Tracings {
     pub field: CrossField,
     /// The field and its two iso-line tracings, in that order; `None` where one could not be
     /// made.
     tracings: Vec<Option<CrossField>>,
     /// The smoothest field ([`UNGUIDED`]), made when a proposal along it is first asked for
-    /// (most layouts need none: [`pick`]); `None` where it could not be made.
+    /// (the page's workers each make only some of the tracings); `None` where it could not be
+    /// made.
     unguided: std::sync::OnceLock<Option<CrossField>>,
-    /// The fields of [`SMOOTHINGS`], made when a proposal along one is first asked for (most
-    /// layouts need none: [`pick`]); `None` where one could not be made.
+    /// The fields of [`SMOOTHINGS`], made when a proposal along one is first asked for (as the
+    /// smoothest field); `None` where one could not be made.
     smoothed: [std::sync::OnceLock<Option<CrossField>>; SMOOTHINGS.len()],
 }
 
-/// The tracings of the surface's own field (its streamlines and its two iso-line tracings):
-/// the others are made only where none of these holds the surface ([`pick`],
-/// [`Judged::holds`]).
-pub const PRIMARY_TRACINGS: usize = 3;
+/// The tracings of the surface's own field: its streamlines and its two iso-line tracings.
+const OWN_TRACINGS: usize = 3;
 
-/// The first of the other tracings ([`Tracings::candidate`] `PRIMARY_TRACINGS`): streamlines
+/// The first of the other tracings ([`Tracings::candidate`] `OWN_TRACINGS`): streamlines
 /// of the smoothest field, which has the surface's constraints but no curvature guide
 /// ([`compute_unguided_field`]). Where the principal directions are noise at the scale of
 /// the quads (a scan's bumps, the blends and fillets of a CAD part), the guided field bends
@@ -253,7 +253,8 @@ pub const PRIMARY_TRACINGS: usize = 3;
 /// field does not, but on a limb or a torus it is not the principal one and spirals. Neither
 /// wins everywhere; the judge tells which. `quadlay layout`, then `remesh --quads 4000`, on
 /// 29 of CGAL's meshes never used in tuning and 26 used (the seven shared ones among them):
-/// - made with the others (only where the first three do not hold the surface): mean angle
+/// - made with the smoothed fields' (only where the first three do not hold the surface):
+///   mean angle
 ///   deviation 7.46 → 7.33° and 7.35 → 7.16°, folded quads 80 → 62 and 50 → 49,
 ///   geometric-mean Hausdorff distance 0.876 → 0.887 % and 1.205 → 1.206 %; kept on 5 of the
 ///   55 (turbine 17.9 → 14.1° and 22 → 9 folded, lion-head 9.8 → 4.9°, pig's 4 folded quads
@@ -267,8 +268,9 @@ pub const PRIMARY_TRACINGS: usize = 3;
 ///
 /// The smoothest field of every tracing instead (its iso-lines and smoothed frames too) is
 /// worse on the whole (untuned 0.876 → 1.031 %, knot 0.55 → 3.76 %), though best on 9 of the
-/// 29 (three_peaks 8.2 → 4.7°, triceratops 16.1 → 11.3°).
-const UNGUIDED: usize = PRIMARY_TRACINGS;
+/// 29 (three_peaks 8.2 → 4.7°, triceratops 16.1 → 11.3°). Made always now, with all the
+/// others ([`Tracings::propose`]).
+const UNGUIDED: usize = OWN_TRACINGS;
 
 /// One tracing's proposal, judged by its quads ([`Tracings::candidate`]).
 pub struct Candidate {
@@ -300,22 +302,28 @@ impl Tracings {
     }
 
     /// [`propose_layout`] with these tracings (made with `options`' feature angle): the
-    /// proposals along the [`PRIMARY_TRACINGS`] at once, then along the others at once unless
-    /// one of the first holds the surface, the one [`pick`] keeps, its corners chosen
+    /// proposals along all of them at once, the one [`pick`] keeps, its corners chosen
     /// ([`with_corners_chosen`]).
+    ///
+    /// All of them always. Until stop 55 the smoothest field's and the smoothed fields' were
+    /// made only where none of the surface's own field's held the surface (its quads within an
+    /// edge length of it, none folded), for time; but where one held, another was often better
+    /// still: on nefertiti the field in frames smoothed over 2 % of the diagonal gives 4
+    /// irregular vertices where the field's streamlines give 16 (the issue asks for at most
+    /// 11), at 2.08° rather than 2.45°. `quadlay layout`, then `remesh --quads 4000`, on the
+    /// 36 meshes (the shared ones and 29 of CGAL's): geometric-mean Hausdorff distance
+    /// 1.311 → 1.281 %, mean angle deviation 6.63 → 6.42°, irregular vertices 2757 → 2733,
+    /// folded quads 81 → 81; another layout kept on six (bear 0.85 → 0.51 % and 4.9 → 3.4°,
+    /// handle 0.85 → 0.54 % but 4.6 → 6.7°). It costs time where the first three held:
+    /// `quadlay layout bunny_28k` took 2.0 times as long in paired runs, for the layout it
+    /// kept before.
     ///
     /// # Errors
     /// [`ProposeError::NoValidLayout`] if no tracing gives a valid layout (the first one's
     /// reason).
     pub fn propose(&self, mesh: &Mesh, options: &LayoutOptions) -> Result<Proposal, ProposeError> {
-        let made = |ks: std::ops::Range<usize>| at_once(&ks.collect::<Vec<_>>(), |&k| self.candidate(mesh, k, options));
-        let summaries = |cs: &[Result<Candidate, ProposeError>]| cs.iter().map(|c| c.as_ref().ok().map(Candidate::summary)).collect::<Vec<_>>();
-        let mut candidates = made(0..PRIMARY_TRACINGS);
-        // The others only where they may be kept: what pick keeps of all when they are made.
-        if held_primary(&summaries(&candidates)).is_none() {
-            candidates.extend(made(PRIMARY_TRACINGS..self.count()));
-        }
-        let kept = pick(&summaries(&candidates));
+        let candidates = at_once(&(0..self.count()).collect::<Vec<_>>(), |&k| self.candidate(mesh, k, options));
+        let kept = pick(&candidates.iter().map(|c| c.as_ref().ok().map(Candidate::summary)).collect::<Vec<_>>());
         let mut error = None;
         let mut chosen = None;
         for (i, c) in candidates.into_iter().enumerate() {
@@ -459,25 +467,12 @@ pub fn with_corners_chosen(mesh: &Mesh, field: &CrossField, placed: &Placement, 
 }
 
 /// Which of the candidates (one per tracing, in order; `None` where none was made, else its
-/// judged quads and its curves) to keep: the best judged of the [`PRIMARY_TRACINGS`]' where it
-/// holds the surface ([`Judged::holds`]), else the best judged of all ([`best`]), else the
-/// first made (none could be remeshed to judge it); `None` if none was made.
+/// judged quads and its curves) to keep: the best judged ([`best`]), else the first made
+/// (none could be remeshed to judge it); `None` if none was made.
 pub fn pick(candidates: &[Option<(Option<Judged>, usize)>]) -> Option<usize> {
-    held_primary(candidates).or_else(|| best_of(candidates)).or_else(|| candidates.iter().position(Option::is_some))
-}
-
-/// The best judged of the [`PRIMARY_TRACINGS`]' candidates (as [`pick`] gets them) if it
-/// holds the surface ([`Judged::holds`]).
-fn held_primary(candidates: &[Option<(Option<Judged>, usize)>]) -> Option<usize> {
-    let primary = &candidates[..PRIMARY_TRACINGS.min(candidates.len())];
-    best_of(primary).filter(|&i| primary[i].and_then(|c| c.0).is_some_and(|j| j.holds()))
-}
-
-/// The best judged of `candidates` ([`best`]).
-fn best_of(candidates: &[Option<(Option<Judged>, usize)>]) -> Option<usize> {
     let judged: Vec<_> = candidates.iter().map(|c| c.and_then(|c| c.0)).collect();
     let curves: Vec<usize> = candidates.iter().map(|c| c.map_or(0, |c| c.1)).collect();
-    best(&judged, &curves)
+    best(&judged, &curves).or_else(|| candidates.iter().position(Option::is_some))
 }
 
 /// `f` of every item, in order: natively each after the first on a thread of its own (one
@@ -1684,18 +1679,15 @@ mod tests {
         assert_eq!(kept.layout, chosen.layout);
     }
 
-    /// Of the primary tracings' proposals, the best is kept where it holds the surface,
-    /// whatever the others score; where it does not, the best of all.
+    /// The best judged of all the tracings' proposals is kept, whichever tracing made it; where
+    /// none could be judged, the first made.
     #[test]
-    fn a_primary_proposal_that_holds_the_surface_is_kept() {
-        let judged = |hausdorff: f64, score: f64, edges: f64| Some((Some(Judged { hausdorff, score, folded: 0, edges }), 10));
-        let holding = [judged(0.010, 3.0, 0.8), judged(0.012, 4.0, 0.9), None, judged(0.009, 1.0, 0.7)];
-        assert_eq!(pick(&holding), Some(0));
-        let missing = [judged(0.020, 3.0, 1.6), judged(0.030, 4.0, 2.4), None, judged(0.018, 1.0, 1.4)];
-        assert_eq!(pick(&missing), Some(3));
-        // A fold does not hold either.
-        let folded = [Some((Some(Judged { hausdorff: 0.01, score: 3.0, folded: 1, edges: 0.8 }), 10)), None, None, judged(0.011, 1.0, 0.9)];
-        assert_eq!(pick(&folded), Some(3));
+    fn the_best_judged_proposal_of_all_tracings_is_kept() {
+        let judged = |hausdorff: f64, score: f64| Some((Some(Judged { hausdorff, score, folded: 0 }), 10));
+        assert_eq!(pick(&[judged(0.010, 3.0), judged(0.012, 4.0), None, judged(0.009, 1.0)]), Some(3));
+        assert_eq!(pick(&[judged(0.010, 3.0), judged(0.012, 2.0), None, judged(0.030, 1.0)]), Some(1));
+        assert_eq!(pick(&[None, Some((None, 10)), Some((None, 8))]), Some(1));
+        assert_eq!(pick(&[None, None]), None);
     }
 
     /// Where no tracing made a layout, the last step makes one of Voronoi cells: on eight

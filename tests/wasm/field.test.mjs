@@ -157,12 +157,10 @@ test('proposals made apart and picked are the one suggestion', () => {
     assert.equal(beyond.layout, null);
     assert.equal(beyond.error, null);
     const kept = pickSuggestion(made.map(({ judged, curves }) => ({ judged, curves })));
-    // The first `primary` are the surface's own field's; where the one kept of those holds
-    // the surface, the others change nothing (the page then makes none of them).
-    assert.equal(first.primary, 3);
-    assert.equal(typeof first.holds, 'boolean');
-    const keptOfPrimary = pickSuggestion(made.slice(0, first.primary).map(({ judged, curves }) => ({ judged, curves })));
-    if (made[keptOfPrimary].holds) assert.equal(kept, keptOfPrimary);
+    // All six are made, and the one of lowest score kept (of those near the surface).
+    assert.equal(first.tracings, 6);
+    const lowest = Math.min(...made.filter((m) => m.judged).map((m) => m.judged.score));
+    assert.ok(made[kept].judged.score <= 1.05 * lowest, `${made[kept].judged.score} vs ${lowest}`);
     const chosen = s.finishSuggestion(made[kept].layout, made[kept].judged, {});
     assert.equal(chosen.layout, whole.layout);
     assert.deepEqual(made[kept].field, whole.field);
