@@ -14,7 +14,9 @@
 // Adds to `window.quadlay` (see main.js):
 //   suggestion  { state: 'idle'|'running'|'done'|'cancelled'|'error', error, seconds (in the
 //               workers), faces (of the placed proposal), ms (page time from click to
-//               checked), workers (how many made the proposals at once) }
+//               checked), workers (how many made the proposals at once), proposals (how many
+//               the workers made and judged, one per tracing; null where one request made
+//               them all) }
 //   suggest(options?) → Promise<layout summary>: proposes with the card's options overridden
 //               by { patches: number|null, featureAngle: number }, places it as one edit;
 //               rejects with the core's error in words
@@ -180,7 +182,7 @@ export class Suggester {
       }
       const ms = performance.now() - t0;
       const workers = answer.workers ?? 1;
-      this.quadlay.suggestion = { state: 'done', seconds: answer.seconds, faces: summary.faces, ms, workers };
+      this.quadlay.suggestion = { state: 'done', seconds: answer.seconds, faces: summary.faces, ms, workers, proposals: answer.proposals ?? null };
       const t = summary.t_vertices ? `, ${summary.t_vertices} T-vertices` : '';
       const note = answer.note ? ` ${answer.note}.` : '';
       const apart = workers > 1 ? ` (${workers} workers at once)` : '';
@@ -221,6 +223,9 @@ export class Suggester {
           const answer = await client.suggestLayout({ ...options, tracing: k });
           if (answer.tracings <= k) return;
           made[k] = answer;
+          // For the progress line: a proposal takes seconds on a large mesh.
+          token.made = (token.made ?? 0) + 1;
+          token.tracings = answer.tracings;
         }
       };
       await Promise.all([run(this.client, 0), ...helpers.map((h, i) => h.then((client) => run(client, i + 1)))]);
@@ -237,7 +242,7 @@ export class Suggester {
     // there is no layout.
     if (kept == null) return this.client.suggestLayout(options);
     const { layout } = await this.client.finishSuggestion(made[kept].text, made[kept].judged, options);
-    return { ...made[kept], text: layout, seconds: (performance.now() - t0) / 1000, workers };
+    return { ...made[kept], text: layout, seconds: (performance.now() - t0) / 1000, workers, proposals: made.filter(Boolean).length };
   }
 
   /** Shows why no layout was proposed, in words; returns the error. */
@@ -273,7 +278,11 @@ export class Suggester {
     this.progress.hidden = !on;
     if (!on) return;
     this.message.hidden = true;
-    const tick = () => this.setProgressText(`Proposing a layout from the cross field… ${((performance.now() - t0) / 1000).toFixed(1)} s`);
+    const tick = () => {
+      const p = this.current;
+      const made = p?.tracings ? `, ${p.made} of ${p.tracings} proposals made` : '';
+      this.setProgressText(`Proposing a layout from the cross field… ${((performance.now() - t0) / 1000).toFixed(1)} s${made}`);
+    };
     tick();
     this.timer = setInterval(tick, 100);
   }

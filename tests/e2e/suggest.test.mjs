@@ -52,6 +52,9 @@ test('Suggest layout places a valid layout as one edit; Ctrl+Z restores the prev
   // processor.
   const cores = await page.evaluate(() => navigator.hardwareConcurrency);
   assert.equal((await page.evaluate(() => window.quadlay.suggestion)).workers, cores > 1 ? 3 : 1);
+  // Every tracing's proposal was made and judged (one request makes them all where there is
+  // one processor).
+  assert.equal((await page.evaluate(() => window.quadlay.suggestion)).proposals, cores > 1 ? 6 : null);
   await page.screenshot({ path: join(outDir, 'suggest-layout.png') });
 
   // One edit: Ctrl+Z returns the sample layout, Ctrl+Shift+Z the proposal.
