@@ -254,8 +254,7 @@ const OWN_TRACINGS: usize = 3;
 /// wins everywhere; the judge tells which. `quadlay layout`, then `remesh --quads 4000`, on
 /// 29 of CGAL's meshes never used in tuning and 26 used (the seven shared ones among them):
 /// - made with the smoothed fields' (only where the first three do not hold the surface):
-///   mean angle
-///   deviation 7.46 → 7.33° and 7.35 → 7.16°, folded quads 80 → 62 and 50 → 49,
+///   mean angle deviation 7.46 → 7.33° and 7.35 → 7.16°, folded quads 80 → 62 and 50 → 49,
 ///   geometric-mean Hausdorff distance 0.876 → 0.887 % and 1.205 → 1.206 %; kept on 5 of the
 ///   55 (turbine 17.9 → 14.1° and 22 → 9 folded, lion-head 9.8 → 4.9°, pig's 4 folded quads
 ///   none, but 1.2 → 2.1 % of the diagonal off). Where it is made it costs time: paired
