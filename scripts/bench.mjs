@@ -136,22 +136,20 @@ const suggest = (() => {
   }
 })();
 
-// The page's Suggest with more than one processor (suggest.js): the core's tracings at once in
-// SUGGEST_WORKERS workers that each load the mesh and make tracings from + j, from + j +
-// SUGGEST_WORKERS, … below `to`, the primary ones first and the others where the one kept of
-// those does not hold the surface, and the one pickSuggestion names; here in Node's worker
-// threads. The same layout as the one call above.
+// The page's Suggest with more than one processor (suggest.js): the core's six tracings at once
+// in SUGGEST_WORKERS workers that each load the mesh and make tracings j, j + SUGGEST_WORKERS,
+// …, and the one pickSuggestion names; here in Node's worker threads. The same layout as the
+// one call above.
 const SUGGEST_WORKERS = 3;
 const SUGGEST_WORKER = `
-  const { parentPort, workerData: { wasm, bytes, name, j, workers, from, to } } = require('node:worker_threads');
+  const { parentPort, workerData: { wasm, bytes, name, j, workers } } = require('node:worker_threads');
   const { Session } = require(wasm);
   const s = new Session(new Uint8Array(bytes), name);
   const made = [];
-  for (let k = from + j, end = to; k < (end ?? Infinity); k += workers) {
-    const { layout, tracings, primary, judged, holds, curves } = s.suggestLayout({ tracing: k });
+  for (let k = j; ; k += workers) {
+    const { layout, tracings, judged, curves } = s.suggestLayout({ tracing: k });
     if (tracings <= k) break;
-    made.push({ k, layout, tracings, primary, judged, holds, curves });
-    end ??= primary;
+    made.push({ k, layout, judged, curves });
   }
   parentPort.postMessage(made);`;
 const suggestApart = await (async () => {
@@ -160,20 +158,13 @@ const suggestApart = await (async () => {
   const once = async () => {
     const t0 = performance.now();
     const made = [];
-    const each = async (from, to) => {
-      const answers = await Promise.all(Array.from({ length: SUGGEST_WORKERS }, (_, j) => new Promise((resolve, reject) => {
-        const w = new Worker(SUGGEST_WORKER, { eval: true, workerData: { wasm: wasmPath, bytes, name: SUGGEST_MESH, j, workers: SUGGEST_WORKERS, from, to } });
-        w.once('message', (m) => { resolve(m); w.terminate(); });
-        w.once('error', reject);
-      })));
-      for (const m of answers.flat()) made[m.k] = m;
-    };
-    const pick = () => pickSuggestion(made.map((m) => (m.layout == null ? null : { judged: m.judged, curves: m.curves })));
-    await each(0, null);
-    const first = made.find(Boolean);
-    const held = pick();
-    if (first && !(held != null && made[held].holds)) await each(first.primary, first.tracings);
-    const kept = pick();
+    const answers = await Promise.all(Array.from({ length: SUGGEST_WORKERS }, (_, j) => new Promise((resolve, reject) => {
+      const w = new Worker(SUGGEST_WORKER, { eval: true, workerData: { wasm: wasmPath, bytes, name: SUGGEST_MESH, j, workers: SUGGEST_WORKERS } });
+      w.once('message', (m) => { resolve(m); w.terminate(); });
+      w.once('error', reject);
+    })));
+    for (const m of answers.flat()) made[m.k] = m;
+    const kept = pickSuggestion(made.map((m) => (m.layout == null ? null : { judged: m.judged, curves: m.curves })));
     // The page's worker has the mesh loaded already; here loading it is part of the time.
     const s = new Session(new Uint8Array(bytes), SUGGEST_MESH);
     try {
