@@ -806,8 +806,8 @@ fn tries_share(count_freedom: usize) -> f64 {
 /// The first of `items` for which `f` gives something, and how many items that took (all of
 /// them when none did): the tries of [`refine`], in their order, one after the other. Each
 /// writes and solves a whole layout (about 0.1 s on bunny_28k). They ran two at a time on two
-/// threads before, but the three tracings' proposals already run at once
-/// ([`at_once`]), and a second try whose first succeeded was work thrown away: one at a time,
+/// threads before, but the tracings' proposals already share the processors ([`at_once`]),
+/// and a second try whose first succeeded was work thrown away: one at a time,
 /// `quadlay layout` took 18 % less time on bunny_28k, 12 % on elephant_44k and 8 % on CGAL's
 /// cow (paired runs, the same layouts).
 fn first_some<T, R>(items: &[T], f: impl Fn(&T) -> Option<R>) -> (Option<R>, usize) {
