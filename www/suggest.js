@@ -278,10 +278,18 @@ export class Suggester {
     this.progress.hidden = !on;
     if (!on) return;
     this.message.hidden = true;
+    const bar = document.getElementById('suggest-bar');
+    bar.classList.add('indeterminate');
+    bar.style.width = '';
     const tick = () => {
       const p = this.current;
       const made = p?.tracings ? `, ${p.made} of ${p.tracings} proposals made` : '';
       this.setProgressText(`Proposing a layout from the cross field… ${((performance.now() - t0) / 1000).toFixed(1)} s${made}`);
+      // Once a proposal is made the bar shows how many: each takes about as long.
+      if (p?.tracings) {
+        bar.classList.remove('indeterminate');
+        bar.style.width = `${Math.round((100 * p.made) / p.tracings)}%`;
+      }
     };
     tick();
     this.timer = setInterval(tick, 100);
