@@ -35,6 +35,13 @@ pub struct CutMesh {
     pub curve_vertices: Vec<Vec<u32>>,
 }
 
+impl CutMesh {
+    /// Whether vertex `v` lies on the layout: on a curve, or at a node.
+    pub fn on_layout(&self, v: u32) -> bool {
+        self.vertex_curve[v as usize] != NONE || self.vertex_node[v as usize] != NONE
+    }
+}
+
 /// The faces on the left and right of every curve ([`NONE`] right of a boundary piece).
 pub fn curve_sides(layout: &SurfaceLayout) -> Vec<[u32; 2]> {
     let mut sides = vec![[NONE, NONE]; layout.curves.len()];
@@ -127,11 +134,10 @@ pub fn cut_mesh(mesh: &Mesh, layout: &SurfaceLayout) -> CutMesh {
     for &e in on_edge.keys() {
         crossed[e as usize] = true;
     }
-    let on_layout = |v: u32| out.vertex_curve[v as usize] != NONE || out.vertex_node[v as usize] != NONE;
     for f in 0..mesh.n_faces() as u32 {
         let corners = [0, 1, 2].map(|k| mesh.from_vertex(mesh.face_halfedge(f, k)));
         let inside = (0..3).all(|k| !crossed[mesh.edge(mesh.face_halfedge(f, k)) as usize])
-            && !corners.iter().any(|&v| on_layout(v))
+            && !corners.iter().any(|&v| out.on_layout(v))
             && !chords_in.contains_key(&f);
         if inside {
             if has_area(&out.positions, corners) {
@@ -209,8 +215,7 @@ fn chart_sides(layout: &SurfaceLayout) -> ChartSides {
 /// in triangles so obtuse that their negative weights fold them (bunny-ears' loop flipped 17
 /// triangles when every chord was split).
 fn split_chords(out: &mut CutMesh, segment: &HashMap<(u32, u32), (u32, bool)>, sides: &ChartSides) {
-    let on_layout = |v: u32| out.vertex_curve[v as usize] != NONE || out.vertex_node[v as usize] != NONE;
-    let chord = |a: u32, b: u32| on_layout(a) && on_layout(b) && !segment.contains_key(&(a, b));
+    let chord = |a: u32, b: u32| out.on_layout(a) && out.on_layout(b) && !segment.contains_key(&(a, b));
     let mut holder: HashMap<(u32, u32), usize> = HashMap::new();
     for (t, tri) in out.triangles.iter().enumerate() {
         for k in 0..3 {

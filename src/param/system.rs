@@ -306,8 +306,7 @@ pub fn cotangent_halves(cut: &CutMesh) -> Vec<[f64; 3]> {
 /// that touch the layout are the ones a later solve assembles anew ([`Pattern::varying`]), so
 /// no other term changes.
 pub fn without_negative_edges(cut: &CutMesh, halves: &[[f64; 3]]) -> Vec<[f64; 3]> {
-    let on_layout = |v: u32| cut.vertex_curve[v as usize] != NONE || cut.vertex_node[v as usize] != NONE;
-    let touches: Vec<bool> = cut.triangles.iter().map(|t| t.iter().any(|&v| on_layout(v))).collect();
+    let touches: Vec<bool> = cut.triangles.iter().map(|t| t.iter().any(|&v| cut.on_layout(v))).collect();
     // Corner k of a triangle faces its edge from vertex k + 1 to k + 2.
     let mut facing: HashMap<(u32, u32), (usize, usize)> = HashMap::new();
     for (t, tri) in cut.triangles.iter().enumerate().filter(|&(t, _)| touches[t]) {
