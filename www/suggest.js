@@ -6,8 +6,8 @@
 // The core makes one proposal per tracing (along the field, along the iso-lines of its two
 // seamless parameterizations, along the smoothest field and along two fields in smoothed
 // frames) and keeps the best. With more than one processor they are made at once in WORKERS
-// workers: helper workers beside the page's load the mesh too, and the core picks the one it would have kept
-// (the same layout as one request makes). The progress line counts the seconds, and Cancel
+// workers: helper workers beside the page's load the mesh too, and the core picks the one it
+// would have kept (the same layout as one request makes). The progress line counts the seconds, and Cancel
 // stops the helpers and restarts the page's worker (it gets the mesh and the placed layout
 // again), as the solve's Cancel does for a long step.
 //
@@ -214,8 +214,9 @@ export class Suggester {
     const t0 = performance.now();
     const helpers = Array.from({ length: workers - 1 }, () => this.client.helper());
     token.helpers = helpers;
+    // The answers by tracing; the progress line counts them (`token.made`).
     const made = [];
-    const pick = () => this.client.pickSuggestion(made.map((a) => (a?.text == null ? null : { judged: a.judged, curves: a.curves })));
+    token.made = made;
     try {
       // Worker j makes tracings j, j + workers, … while there are that many.
       const run = async (client, j) => {
@@ -223,8 +224,6 @@ export class Suggester {
           const answer = await client.suggestLayout({ ...options, tracing: k });
           if (answer.tracings <= k) return;
           made[k] = answer;
-          // For the progress line: a proposal takes seconds on a large mesh.
-          token.made = (token.made ?? 0) + 1;
           token.tracings = answer.tracings;
         }
       };
@@ -236,7 +235,7 @@ export class Suggester {
     } finally {
       stopHelpers(token);
     }
-    const kept = await pick();
+    const kept = await this.client.pickSuggestion(made.map((a) => (a?.text == null ? null : { judged: a.judged, curves: a.curves })));
     // None made: one request makes the tracings' proposals again (on the field this worker
     // keeps) and then the Voronoi cells' layout, and answers with the field, or says why
     // there is no layout.
@@ -283,12 +282,13 @@ export class Suggester {
     bar.style.width = '';
     const tick = () => {
       const p = this.current;
-      const made = p?.tracings ? `, ${p.made} of ${p.tracings} proposals made` : '';
-      this.setProgressText(`Proposing a layout from the cross field… ${((performance.now() - t0) / 1000).toFixed(1)} s${made}`);
-      // Once a proposal is made the bar shows how many: each takes about as long.
+      // Once a proposal is made the line and the bar show how many: each takes about as long.
+      const made = p?.tracings ? p.made.filter(Boolean).length : 0;
+      const count = p?.tracings ? `, ${made} of ${p.tracings} proposals made` : '';
+      this.setProgressText(`Proposing a layout from the cross field… ${((performance.now() - t0) / 1000).toFixed(1)} s${count}`);
       if (p?.tracings) {
         bar.classList.remove('indeterminate');
-        bar.style.width = `${Math.round((100 * p.made) / p.tracings)}%`;
+        bar.style.width = `${Math.round((100 * made) / p.tracings)}%`;
       }
     };
     tick();
