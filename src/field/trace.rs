@@ -13,11 +13,13 @@
 //! Paths of mesh edges that share no vertex cannot cross, so the layout curves made from
 //! them meet only where a trace ends on another: the motorcycle rule. All traces grow in the
 //! order of their length; a trace stops on the first vertex that is already taken (another
-//! trace, a node, a feature line, the boundary), which becomes a T-junction.
+//! trace, a node, a feature line, the boundary), which becomes a T-junction. Where that is a
+//! feature line met square enough, a new trace goes on from there on the other side
+//! ([`Motorcycles::crossing`]): the two meet the line in a crossing.
 
 use super::frames::tangential;
 use super::CrossField;
-use crate::geom::{cross, dot, norm, scale, sub, unit, Vec3};
+use crate::geom::{add, cross, dot, norm, scale, sub, unit, Vec3};
 use crate::mesh::{Mesh, NONE};
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap, VecDeque};
@@ -28,6 +30,10 @@ pub const BLOCKED: u32 = u32::MAX - 1;
 /// Steps after which a trace that comes next to another curve ends on it (the first steps
 /// leave a node next to its other traces).
 const SNAP_AFTER: usize = 3;
+
+/// A trace goes on across a feature line it meets at more than this angle
+/// ([`Motorcycles::continuation`]); one nearer along the line is running beside it.
+const CROSS_ANGLE: f64 = std::f64::consts::PI / 3.0;
 
 /// How a trace ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -43,6 +49,9 @@ pub enum TraceEnd {
 pub struct Trace {
     pub path: Vec<u32>,
     pub end: TraceEnd,
+    /// The trace this one continues across a feature line ([`Motorcycles::crossing`]), or
+    /// [`NONE`] for a launched one.
+    pub continues: u32,
 }
 
 /// A ray that misses a triangle's edges by more than this (in edge lengths) ends the trace.
@@ -64,6 +73,9 @@ pub struct Motorcycles<'a> {
     arrivals: HashMap<u32, Vec<Vec3>>,
     /// How far along a curve a trace's end moves to meet one from the other side; 0: never.
     snap: f64,
+    /// Per vertex: the tangent of the feature line a trace that ends there goes on across, or
+    /// zero (empty: none); see [`Motorcycles::crossing`].
+    crossable: Vec<Vec3>,
 }
 
 /// A trace snaps at most this share of its length ([`Motorcycles::end_at_crossing`]).
@@ -112,7 +124,7 @@ impl Ord for Next {
 impl<'a> Motorcycles<'a> {
     /// An empty graph; `owner` says which vertices are taken before any trace runs.
     pub fn new(mesh: &'a Mesh, field: &'a CrossField, owner: Vec<u32>, max_length: f64) -> Motorcycles<'a> {
-        Motorcycles { mesh, field, owner, traces: Vec::new(), pending: Vec::new(), max_length, arrivals: HashMap::new(), snap: 0.0 }
+        Motorcycles { mesh, field, owner, traces: Vec::new(), pending: Vec::new(), max_length, arrivals: HashMap::new(), snap: 0.0, crossable: Vec::new() }
     }
 
     /// The graph with traces that end within `snap` (along the curve they end on) of one that
@@ -121,23 +133,86 @@ impl<'a> Motorcycles<'a> {
         Motorcycles { snap, ..self }
     }
 
+    /// The graph with traces that end on a feature line, where `tangents` (per vertex) has
+    /// the line's direction, going on across it on the other side ([`Self::continuation`]).
+    pub fn crossing(self, tangents: Vec<Vec3>) -> Motorcycles<'a> {
+        Motorcycles { crossable: tangents, ..self }
+    }
+
     /// Queues a trace leaving `start` along `heading` (a tangent direction at `start`); a
     /// vertex no triangle holds in that direction starts nothing.
     pub fn launch(&mut self, start: u32, heading: Vec3) {
         let trace = self.traces.len() as u32;
-        self.traces.push(Trace { path: vec![start], end: TraceEnd::Free });
+        self.traces.push(Trace { path: vec![start], end: TraceEnd::Free, continues: NONE });
         let Some(face) = self.sector(start, heading) else { return };
         let point = self.mesh.position(start);
         let walker = Walker { trace, heading: unit(heading), face, entry: NONE, point, vertex: start, length: 0.0, steps: 0 };
         self.pending.push(walker);
     }
 
+    /// Where trace `t` has just ended (walker `w`) on a feature line that it meets at more
+    /// than [`CROSS_ANGLE`]: a new trace going on from there into the other side, square to
+    /// the line as the field is there. The grid line goes on across the sharp edge as a hand
+    /// layout of a CAD part draws it, rather than ending in a T-junction that the other side
+    /// meets elsewhere with its own.
+    fn continuation(&mut self, t: usize, w: &Walker) -> Option<Walker> {
+        let mesh = self.mesh;
+        let path = &self.traces[t].path;
+        let (v, before) = (path[path.len() - 1], path[path.len() - 2]);
+        let tangent = *self.crossable.get(v as usize)?;
+        // Only after a vertex of its own (which also bounds the continuations by the free
+        // vertices): `before` then lies on one side of the line, and a step from one line
+        // straight onto another (between two lines an edge apart) goes no further.
+        if self.owner[before as usize] != t as u32 || norm(tangent) == 0.0 || dot(w.heading, tangent).abs() > CROSS_ANGLE.cos() {
+            return None;
+        }
+        // The triangles at v (each with its two edges there) on the side `before` is on: those
+        // reached from its own across edges that are not sharp. The others are across the line.
+        let sharp = &self.field.features.sharp;
+        let at_v: Vec<(u32, [u32; 2])> =
+            mesh.outgoing(v).filter(|&h| mesh.face(h) != NONE).map(|h| (mesh.face(h), [mesh.edge(h), mesh.edge(mesh.prev(h))])).collect();
+        let first = at_v.iter().position(|t| mesh.triangles()[t.0 as usize].contains(&before))?;
+        let mut near = vec![false; at_v.len()];
+        near[first] = true;
+        let mut stack = vec![first];
+        while let Some(i) = stack.pop() {
+            for j in 0..at_v.len() {
+                if !near[j] && at_v[i].1.iter().any(|e| !sharp[*e as usize] && at_v[j].1.contains(e)) {
+                    near[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+        let far: Vec<u32> = at_v.iter().zip(&near).filter(|(_, &n)| !n).map(|(t, _)| t.0).collect();
+        // Square to the line in the far side's mean plane, away from the line.
+        let p = mesh.position(v);
+        let (mut normal, mut towards) = ([0.0; 3], [0.0; 3]);
+        for &f in &far {
+            let [a, b, c] = mesh.triangles()[f as usize].map(|x| mesh.position(x));
+            normal = add(normal, cross(sub(b, a), sub(c, a)));
+            towards = add(towards, sub(scale(1.0 / 3.0, add(add(a, b), c)), p));
+        }
+        let d = unit(cross(normal, tangent));
+        let d = if dot(d, towards) < 0.0 { scale(-1.0, d) } else { d };
+        // Into a far triangle (d may run exactly along an edge of the far side, where a near
+        // triangle holds it as little).
+        let face = self.sector_among(v, d, |f| far.contains(&f))?;
+        let trace = self.traces.len() as u32;
+        self.traces.push(Trace { path: vec![v], end: TraceEnd::Free, continues: t as u32 });
+        Some(Walker { trace, heading: d, face, entry: NONE, point: p, vertex: v, length: w.length, steps: 0 })
+    }
+
     /// The triangle at `v` whose corner holds direction `d` (the one it points into most).
     fn sector(&self, v: u32, d: Vec3) -> Option<u32> {
+        self.sector_among(v, d, |_| true)
+    }
+
+    /// [`Self::sector`] among the triangles `allowed` holds.
+    fn sector_among(&self, v: u32, d: Vec3, allowed: impl Fn(u32) -> bool) -> Option<u32> {
         let mesh = self.mesh;
         let p = mesh.position(v);
         mesh.outgoing(v)
-            .filter(|&h| mesh.face(h) != NONE)
+            .filter(|&h| mesh.face(h) != NONE && allowed(mesh.face(h)))
             .map(|h| {
                 let a = unit(sub(mesh.position(mesh.to_vertex(h)), p));
                 let b = unit(sub(mesh.position(mesh.to_vertex(mesh.next(h))), p));
@@ -161,9 +236,15 @@ impl<'a> Motorcycles<'a> {
             if let Some(next) = crossed.filter(|&x| Some(&x) != self.traces[t].path.last()) {
                 let path = &mut self.traces[t].path;
                 path.push(next);
+                // Ended on a taken vertex; a trace that goes on from it is queued.
+                let mut end = |moto: &mut Self, w: &Walker| {
+                    if let Some(c) = moto.ended(t, w) {
+                        heap.push(Next(c.length, walkers.len()));
+                        walkers.push(c);
+                    }
+                };
                 if self.owner[next as usize] != NONE {
-                    self.traces[t].end = TraceEnd::Hit;
-                    self.end_at_crossing(t, w.heading, w.length);
+                    end(self, &w);
                     continue;
                 }
                 // Next to another curve: end on it rather than run beside it one edge away,
@@ -181,8 +262,7 @@ impl<'a> Motorcycles<'a> {
                     if let Some(x) = near {
                         self.owner[next as usize] = w.trace;
                         self.traces[t].path.push(x);
-                        self.traces[t].end = TraceEnd::Hit;
-                        self.end_at_crossing(t, w.heading, w.length);
+                        end(self, &w);
                         continue;
                     }
                 }
@@ -194,6 +274,15 @@ impl<'a> Motorcycles<'a> {
             heap.push(Next(w.length, k));
             walkers[k] = w;
         }
+    }
+
+    /// Trace `t` (walker `w`) has just ended on the last vertex of its path, a taken one:
+    /// [`Self::end_at_crossing`], then the trace that goes on across the feature line there
+    /// ([`Self::continuation`]), if any.
+    fn ended(&mut self, t: usize, w: &Walker) -> Option<Walker> {
+        self.traces[t].end = TraceEnd::Hit;
+        self.end_at_crossing(t, w.heading, w.length);
+        self.continuation(t, w)
     }
 
     /// Trace `t` has just ended on a taken vertex, heading `heading`, `length` long. Where
@@ -429,7 +518,7 @@ impl<'a> Motorcycles<'a> {
 mod tests {
     use super::*;
     use crate::field::compute_field;
-    use crate::mesh::primitives::quad_grid;
+    use crate::mesh::primitives::{parallelepiped, quad_grid};
 
     /// Two traces up and down (or both up) a 20 × 20 grid of the unit square toward a curve
     /// across its middle row, two columns apart, grown with `snap`; their ends.
@@ -463,5 +552,47 @@ mod tests {
         // Not without the snap, nor from the same side (the strip between them is a face).
         assert_eq!(ends(true, 0.0), [id(5), id(7)]);
         assert_eq!(ends(false, 0.12), [id(5), id(7)]);
+    }
+
+    /// A trace from the middle of a cube's bottom along +x, its edges taken as feature lines:
+    /// with crossing it goes on up the side, over the top and down, and ends on its own start,
+    /// a ring round the cube in four traces each square to the edge it leaves (one ending
+    /// where the next starts); without, it ends on the first edge.
+    #[test]
+    fn a_trace_goes_on_across_the_feature_lines_it_meets() {
+        let n = 10;
+        let (mesh, ids) = parallelepiped([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], n);
+        let field = compute_field(&mesh, 35.0).unwrap();
+        let mut owner = vec![NONE; mesh.n_vertices()];
+        let mut tangents = vec![[0.0; 3]; mesh.n_vertices()];
+        for (g, &v) in &ids {
+            let inner: Vec<usize> = (0..3).filter(|&a| g[a] != 0 && g[a] != n).collect();
+            if inner.len() < 2 {
+                owner[v as usize] = BLOCKED;
+            }
+            if inner.len() == 1 {
+                tangents[v as usize][inner[0]] = 1.0;
+            }
+        }
+        // The start is a node, as a launch's is.
+        owner[ids[&[5, 5, 0]] as usize] = BLOCKED;
+        let run = |tangents: Vec<Vec3>| {
+            let mut moto = Motorcycles::new(&mesh, &field, owner.clone(), 10.0).crossing(tangents);
+            moto.launch(ids[&[5, 5, 0]], [1.0, 0.0, 0.0]);
+            moto.run();
+            moto.traces
+        };
+        let plain = run(Vec::new());
+        assert_eq!(plain.len(), 1);
+        assert_eq!(plain[0].path.last(), Some(&ids[&[n, 5, 0]]));
+        let ring = run(tangents);
+        let ends: Vec<u32> = ring.iter().map(|t| *t.path.last().unwrap()).collect();
+        assert_eq!(ends, [[n, 5, 0], [n, 5, n], [0, 5, n], [0, 5, 0], [5, 5, 0]].map(|g| ids[&g]));
+        for (k, t) in ring.iter().enumerate() {
+            assert_eq!(t.end, TraceEnd::Hit);
+            assert_eq!(t.continues, if k == 0 { NONE } else { k as u32 - 1 });
+            // Straight along its face: every vertex on the ring y = 5.
+            assert!(t.path.iter().all(|v| ids.iter().any(|(g, x)| x == v && g[1] == 5)), "trace {k}: {:?}", t.path);
+        }
     }
 }
